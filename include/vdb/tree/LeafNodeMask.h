@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// LeafNode<ValueMask>: the topology-only leaf, one bit per voxel and no values.
+/// Included by LeafNode.h; include that header instead.
+
+#pragma once
+
+#include <vdb/tree/LeafNode.h>
+
+namespace vdb::tree {
+
+/// A leaf that stores only which voxels are active (paper 2.3, topology-only trees).
+///
+/// Its ValueType is `bool` and a voxel's value is its active state: writing `true` activates,
+/// writing `false` deactivates, whichever setter is used, as in OpenVDB's mask trees.
+/// Threads: concurrent const calls are safe; any mutation needs exclusive access.
+template <Index Log2Dim>
+class LeafNode<ValueMask, Log2Dim> {
+    static_assert(Log2Dim >= 2 && Log2Dim <= 7, "leaf edge must be 4 to 128 voxels");
+
+public:
+    using ValueType = bool;
+    using BuildType = ValueMask;
+    using LeafNodeType = LeafNode;
+
+    static constexpr Index LOG2DIM = Log2Dim;
+    static constexpr Index TOTAL = Log2Dim;
+    static constexpr Index DIM = Index(1) << Log2Dim;
+    static constexpr Index NUM_VALUES = Index(1) << (3 * Log2Dim);
+    static constexpr Index NUM_VOXELS = NUM_VALUES;
+    static constexpr Index LEVEL = 0;
+
+    using MaskType = util::BitMask<NUM_VALUES>;
+
+    explicit LeafNode(const Coord& ijk, bool value = false, bool active = false)
+        : mOrigin(ijk.alignedDown(LOG2DIM)), mValueMask(value || active) {}
+
+    const Coord& origin() const { return mOrigin; }
+    void setOrigin(const Coord& ijk) { mOrigin = ijk.alignedDown(LOG2DIM); }
+    CoordBBox getNodeBoundingBox() const { return CoordBBox::createCube(mOrigin, DIM); }
+    bool contains(const Coord& ijk) const { return ijk.alignedDown(LOG2DIM) == mOrigin; }
+    static Index coordToOffset(const Coord& ijk) {
+        return LeafNode<float, Log2Dim>::coordToOffset(ijk);
+    }
+    static Coord offsetToLocalCoord(Index n) {
+        return LeafNode<float, Log2Dim>::offsetToLocalCoord(n);
+    }
+    Coord offsetToGlobalCoord(Index n) const { return mOrigin + offsetToLocalCoord(n); }
+
+    bool getValue(Index n) const { return mValueMask.isOn(n); }
+    bool getValue(const Coord& ijk) const { return getValue(coordToOffset(ijk)); }
+    bool isValueOn(Index n) const { return mValueMask.isOn(n); }
+    bool isValueOn(const Coord& ijk) const { return isValueOn(coordToOffset(ijk)); }
+    bool probeValue(const Coord& ijk, bool& value) const {
+        value = isValueOn(ijk);
+        return value;
+    }
+    void setValueOn(Index n, bool value) { mValueMask.set(n, value); }
+    void setValueOn(const Coord& ijk, bool value) { setValueOn(coordToOffset(ijk), value); }
+    void setValueOn(Index n) { mValueMask.setOn(n); }
+    void setValueOn(const Coord& ijk) { mValueMask.setOn(coordToOffset(ijk)); }
+    void setValueOff(Index n, bool value) { mValueMask.set(n, value); }
+    void setValueOff(const Coord& ijk, bool value) { setValueOff(coordToOffset(ijk), value); }
+    void setValueOff(Index n) { mValueMask.setOff(n); }
+    void setValueOff(const Coord& ijk) { mValueMask.setOff(coordToOffset(ijk)); }
+    void setValueOnly(Index n, bool value) { mValueMask.set(n, value); }
+    void setValueOnly(const Coord& ijk, bool value) { setValueOnly(coordToOffset(ijk), value); }
+    void setActiveState(Index n, bool on) { mValueMask.set(n, on); }
+    void setActiveState(const Coord& ijk, bool on) { mValueMask.set(coordToOffset(ijk), on); }
+
+    void fill(bool value, bool active) { mValueMask.set(value || active); }
+    void fill(const CoordBBox& bbox, bool value, bool active) {
+        CoordBBox clip = getNodeBoundingBox();
+        clip.intersect(bbox);
+        if (clip.empty())
+            return;
+        for (Int32 i = clip.min()[0]; i <= clip.max()[0]; ++i)
+            for (Int32 j = clip.min()[1]; j <= clip.max()[1]; ++j)
+                for (Int32 k = clip.min()[2]; k <= clip.max()[2]; ++k)
+                    mValueMask.set(coordToOffset(Coord(i, j, k)), value || active);
+    }
+
+    const MaskType& getValueMask() const { return mValueMask; }
+    MaskType& getValueMask() { return mValueMask; }
+    void setValueMask(const MaskType& mask) { mValueMask = mask; }
+    Index64 onVoxelCount() const { return mValueMask.countOn(); }
+    Index64 offVoxelCount() const { return mValueMask.countOff(); }
+    bool isEmpty() const { return mValueMask.isOff(); }
+    bool isDense() const { return mValueMask.isOn(); }
+    bool isConstant(bool& first, bool& state, bool /*tolerance*/) const {
+        state = first = mValueMask.isOn(0);
+        return state ? mValueMask.isOn() : mValueMask.isOff();
+    }
+    void evalActiveBoundingBox(CoordBBox& bbox) const {
+        for (Index n : mValueMask.onBits())
+            bbox.expand(offsetToGlobalCoord(n));
+    }
+    Index64 memUsage() const { return sizeof(LeafNode); }
+
+    /// A mask leaf has no value buffer; its "values" are the active states.
+    Index bufferCount() const { return 0; }
+    bool isAllocated() const { return true; }
+
+    template <ValueFilter Filter, bool IsConst>
+    class ValueIter {
+    public:
+        using NodeT = std::conditional_t<IsConst, const LeafNode, LeafNode>;
+        ValueIter() = default;
+        ValueIter(NodeT* leaf, Index pos) : mLeaf(leaf), mPos(pos) {}
+        explicit operator bool() const { return mPos < NUM_VALUES; }
+        ValueIter& operator++() {
+            if constexpr (Filter == ValueFilter::On) {
+                mPos = mLeaf->mValueMask.findNextOn(mPos + 1);
+            } else if constexpr (Filter == ValueFilter::Off) {
+                mPos = mLeaf->mValueMask.findNextOff(mPos + 1);
+            } else {
+                ++mPos;
+            }
+            return *this;
+        }
+        Index pos() const { return mPos; }
+        Coord getCoord() const { return mLeaf->offsetToGlobalCoord(mPos); }
+        bool getValue() const { return mLeaf->getValue(mPos); }
+        bool operator*() const { return getValue(); }
+        bool isValueOn() const { return mLeaf->isValueOn(mPos); }
+        bool operator==(std::default_sentinel_t) const { return mPos >= NUM_VALUES; }
+
+    private:
+        NodeT* mLeaf = nullptr;
+        Index mPos = NUM_VALUES;
+    };
+    using ValueOnCIter = ValueIter<ValueFilter::On, true>;
+    using ValueOffCIter = ValueIter<ValueFilter::Off, true>;
+    using ValueAllCIter = ValueIter<ValueFilter::All, true>;
+    ValueOnCIter beginValueOn() const { return {this, mValueMask.findFirstOn()}; }
+    ValueOnCIter cbeginValueOn() const { return {this, mValueMask.findFirstOn()}; }
+    ValueOffCIter cbeginValueOff() const { return {this, mValueMask.findFirstOff()}; }
+    ValueAllCIter cbeginValueAll() const { return {this, 0}; }
+
+private:
+    Coord mOrigin;
+    MaskType mValueMask;  // bit n set <=> voxel n is active (and its value is true)
+};
+
+}  // namespace vdb::tree

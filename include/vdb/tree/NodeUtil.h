@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Small helpers shared by the node templates: node-type lookup by level, value comparison
+/// with a tolerance, and the bit test used to skip filling zero-initialized tables.
+
+#pragma once
+
+#include <vdb/Types.h>
+#include <vdb/math/Coord.h>
+
+#include <cmath>
+#include <concepts>
+#include <cstring>
+#include <type_traits>
+
+namespace vdb::tree {
+
+/// The node type at `Level` of the tree whose top node type is `TopT` (level 0 is the leaf).
+template <typename TopT, Index Level>
+struct NodeAtLevel {
+    static_assert(Level <= TopT::LEVEL, "the tree has no level this high");
+    using Type = typename NodeAtLevel<typename TopT::ChildNodeType, Level>::Type;
+};
+template <typename TopT, Index Level>
+requires(TopT::LEVEL == Level) struct NodeAtLevel<TopT, Level> {
+    using Type = TopT;
+};
+template <typename TopT, Index Level>
+using NodeAtLevelT = typename NodeAtLevel<TopT, Level>::Type;
+
+namespace detail {
+
+/// True when `a` and `b` differ by at most `tolerance` in every component.
+template <typename ValueT>
+constexpr bool isApproxEqual(const ValueT& a, const ValueT& b, const ValueT& tolerance) {
+    if constexpr (std::is_same_v<ValueT, bool>) {
+        return a == b;
+    } else if constexpr (std::is_arithmetic_v<ValueT>) {
+        return a == b || (a > b ? a - b : b - a) <= tolerance;
+    } else {
+        // Vector types: componentwise.
+        for (int i = 0; i < 3; ++i)
+            if (!isApproxEqual(a[i], b[i], tolerance[i]))
+                return false;
+        return true;
+    }
+}
+
+/// True when every byte of `value` is zero, so zero-filled memory already holds it.
+template <typename ValueT>
+bool isZeroBits(const ValueT& value) {
+    static_assert(std::is_trivially_copyable_v<ValueT>);
+    unsigned char bytes[sizeof(ValueT)];
+    std::memcpy(bytes, &value, sizeof(ValueT));
+    for (unsigned char b : bytes)
+        if (b != 0)
+            return false;
+    return true;
+}
+
+/// Maps the local child index (i, j, k) of a node of origin `origin` and edge 2^total voxels to
+/// the global origin of that child. Components wrap modulo 2^total around the origin, so a
+/// node whose origin is not a multiple of its size (the centered top of a bounded tree) maps
+/// each table slot to the one coordinate inside its domain with those low bits.
+inline Coord localToGlobal(const Coord& origin, Index total, Index i, Index j, Index k,
+                           Index childTotal) {
+    const uint32_t mask = (total >= 32) ? ~0u : ((uint32_t(1) << total) - 1);
+    auto wrap = [&](Int32 o, Index n) {
+        return Int32(uint32_t(o) + ((uint32_t(n << childTotal) - uint32_t(o)) & mask));
+    };
+    return Coord(wrap(origin[0], i), wrap(origin[1], j), wrap(origin[2], k));
+}
+
+}  // namespace detail
+}  // namespace vdb::tree

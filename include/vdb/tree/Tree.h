@@ -1,0 +1,385 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Tree: a VDB tree of fixed depth over a top node that is either a RootNode (unbounded
+/// index space) or an InternalNode (a bounded, centered domain), with random access,
+/// statistics and iterators (paper sections 2 and 3).
+///
+/// @code
+/// vdb::FloatTree tree(/*background=*/0.0f);
+/// tree.setValue(vdb::Coord(1, 2, 3), 1.0f);           // allocates nodes on demand
+/// vdb::FloatTree::Accessor acc(tree);                  // cached access, one per thread
+/// float v = acc.getValue(vdb::Coord(1, 2, 4));         // background: 0
+/// for (auto it = tree.cbeginValueOn(); it; ++it) use(it.getCoord(), *it);
+/// @endcode
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Types.h>
+#include <vdb/math/Coord.h>
+#include <vdb/tree/InternalNode.h>
+#include <vdb/tree/LeafNode.h>
+#include <vdb/tree/NodeUtil.h>
+#include <vdb/tree/RootNode.h>
+
+#include <atomic>
+#include <memory>
+#include <sstream>
+#include <type_traits>
+
+namespace vdb::tree {
+
+template <typename TreeT>
+class ValueAccessor;
+template <typename TreeT, ValueFilter Filter>
+class TreeValueIterator;
+template <typename TreeT>
+class TreeLeafIterator;
+
+/// True for node types that can be the top of a tree: a RootNode or an InternalNode.
+template <typename NodeT>
+concept TopNodeType = requires {
+    typename NodeT::ChildNodeType;
+    typename NodeT::ValueType;
+    NodeT::LEVEL;
+};
+
+/// True when `NodeT` is a RootNode.
+template <typename NodeT>
+inline constexpr bool IS_ROOT_NODE = requires {
+    NodeT::IS_ROOT;
+};
+
+/// A sparse volume: a tree of nodes under `TopT`, with a background value for everything that
+/// is not stored.
+///
+/// With a RootNode on top the tree covers the whole signed 32-bit index space. With an
+/// InternalNode on top it covers the fixed cube domain() centered on the origin; reads outside
+/// it return the background and writes outside it throw IndexError.
+///
+/// Structural changes that free nodes (prune, clear, eraseValue, fill over children) advance
+/// an epoch counter; every accessor of the tree compares it on each call and drops its cache
+/// when it changed, so an accessor never follows a freed node, and readers never contend.
+///
+/// Threads: concurrent const calls (and concurrent const accessors) are safe. Mutations need
+/// exclusive access to the tree; threaded tools write disjoint leaves through LeafManager.
+template <TopNodeType TopT>
+class Tree {
+public:
+    using TopNodeType = TopT;
+    using RootNodeType = TopT;
+    using ValueType = typename TopT::ValueType;
+    using BuildType = typename TopT::BuildType;
+    using LeafNodeType = typename TopT::LeafNodeType;
+
+    static constexpr bool BOUNDED = !IS_ROOT_NODE<TopT>;
+    static constexpr Index DEPTH = TopT::LEVEL + 1;  ///< number of levels, the top included
+
+    using Accessor = ValueAccessor<Tree>;
+    using ConstAccessor = ValueAccessor<const Tree>;
+    using ValueOnIter = TreeValueIterator<Tree, ValueFilter::On>;
+    using ValueOnCIter = TreeValueIterator<const Tree, ValueFilter::On>;
+    using ValueOffIter = TreeValueIterator<Tree, ValueFilter::Off>;
+    using ValueOffCIter = TreeValueIterator<const Tree, ValueFilter::Off>;
+    using ValueAllIter = TreeValueIterator<Tree, ValueFilter::All>;
+    using ValueAllCIter = TreeValueIterator<const Tree, ValueFilter::All>;
+    using LeafIter = TreeLeafIterator<Tree>;
+    using LeafCIter = TreeLeafIterator<const Tree>;
+
+    Tree() : Tree(ValueType{}) {}
+    explicit Tree(const ValueType& background)
+        : mTop(makeTop(background)), mBackground(background) {}
+    Tree(const Tree& other) : mTop(new TopT(*other.mTop)), mBackground(other.mBackground) {}
+    Tree& operator=(const Tree& other);
+    ~Tree() = default;
+
+    /// The index-space region the tree can store: the whole 32-bit space for a root top, else
+    /// the cube [-2^(T-1), 2^(T-1) - 1]^3 where 2^T is the top node's edge in voxels.
+    static constexpr CoordBBox domain() {
+        if constexpr (BOUNDED) {
+            return CoordBBox::createCube(Coord(-Int32(TopT::DIM >> 1)), Int32(TopT::DIM));
+        } else {
+            return CoordBBox::inf();
+        }
+    }
+    static constexpr bool inDomain(const Coord& ijk) {
+        if constexpr (BOUNDED) {
+            constexpr uint32_t half = TopT::DIM >> 1;
+            return uint32_t(ijk[0]) + half < TopT::DIM && uint32_t(ijk[1]) + half < TopT::DIM &&
+                   uint32_t(ijk[2]) + half < TopT::DIM;
+        } else {
+            return true;
+        }
+    }
+
+    const ValueType& background() const { return mBackground; }
+    TopT& topNode() { return *mTop; }
+    const TopT& topNode() const { return *mTop; }
+    TopT& root() { return *mTop; }
+    const TopT& root() const { return *mTop; }
+
+    // ---- Random access, top-down (an Accessor is faster for coherent access)
+    ValueType getValue(const Coord& ijk) const {
+        if (!inDomain(ijk))
+            return mBackground;
+        detail::NoCache none;
+        return mTop->getValueAndCache(ijk, none);
+    }
+    bool isValueOn(const Coord& ijk) const {
+        if (!inDomain(ijk))
+            return false;
+        detail::NoCache none;
+        return mTop->isValueOnAndCache(ijk, none);
+    }
+    /// Stores the value at `ijk` in `value` and returns its active state.
+    bool probeValue(const Coord& ijk, ValueType& value) const {
+        if (!inDomain(ijk)) {
+            value = mBackground;
+            return false;
+        }
+        detail::NoCache none;
+        return mTop->probeValueAndCache(ijk, value, none);
+    }
+    /// Sets the value at `ijk` and activates it, allocating nodes as needed.
+    void setValue(const Coord& ijk, const ValueType& value) { setValueOn(ijk, value); }
+    void setValueOn(const Coord& ijk, const ValueType& value);
+    void setValueOn(const Coord& ijk);
+    void setValueOff(const Coord& ijk, const ValueType& value);
+    void setValueOff(const Coord& ijk);
+    /// Changes the value at `ijk` and keeps its active state.
+    void setValueOnly(const Coord& ijk, const ValueType& value);
+    void setActiveState(const Coord& ijk, bool on);
+    /// Random deletion (paper 3.1): the voxel at `ijk` becomes inactive with the background
+    /// value, and every node on its path left indistinguishable from the background (no child,
+    /// no active value, all values background) is freed, bottom-up.
+    void eraseValue(const Coord& ijk);
+    /// Sets every voxel of `bbox` to `value` and `active`; where the box covers a whole child
+    /// region of a node, that region becomes one tile.
+    void fill(const CoordBBox& bbox, const ValueType& value, bool active = true);
+    /// Replaces every node whose values lie within `tolerance` of its first value and share
+    /// one active state with a tile, bottom-up; drops root tiles equal to the background.
+    void prune(const ValueType& tolerance = ValueType{});
+    /// Frees every node: the tree holds only the background.
+    void clear();
+    /// True when the tree stores nothing but the background.
+    bool empty() const;
+
+    // ---- Leaves
+    LeafNodeType* probeLeaf(const Coord& ijk) {
+        if (!inDomain(ijk))
+            return nullptr;
+        detail::NoCache none;
+        return mTop->probeLeafAndCache(ijk, none);
+    }
+    const LeafNodeType* probeConstLeaf(const Coord& ijk) const {
+        if (!inDomain(ijk))
+            return nullptr;
+        detail::NoCache none;
+        return mTop->probeConstLeafAndCache(ijk, none);
+    }
+    const LeafNodeType* probeLeaf(const Coord& ijk) const { return probeConstLeaf(ijk); }
+    /// Returns the leaf that holds `ijk`, creating it (and its parents) if needed.
+    LeafNodeType* touchLeaf(const Coord& ijk);
+
+    // ---- Statistics
+    Index64 activeVoxelCount() const { return mTop->onVoxelCount(); }
+    /// Inactive voxels in leaves, plus the voxels of inactive tiles other than root tiles
+    /// equal to the background.
+    Index64 inactiveVoxelCount() const { return mTop->offVoxelCount(); }
+    Index64 activeLeafVoxelCount() const { return mTop->onLeafVoxelCount(); }
+    Index64 inactiveLeafVoxelCount() const { return mTop->offLeafVoxelCount(); }
+    Index64 activeTileCount() const { return mTop->onTileCount(); }
+    Index32 leafCount() const { return mTop->leafCount(); }
+    Index32 nonLeafCount() const { return mTop->nonLeafCount(); }
+    /// Bytes allocated by the tree: every node, value buffer and table. O(number of nodes).
+    Index64 memUsage() const { return sizeof(Tree) + mTop->memUsage(); }
+    /// Sets `bbox` to the bounding box of the active voxels and tiles; false when there are none.
+    bool evalActiveVoxelBoundingBox(CoordBBox& bbox) const {
+        bbox.reset();
+        mTop->evalActiveBoundingBox(bbox);
+        return !bbox.empty();
+    }
+
+    // ---- Iterators
+    ValueOnIter beginValueOn();
+    ValueOnCIter beginValueOn() const;
+    ValueOnCIter cbeginValueOn() const;
+    ValueOffIter beginValueOff();
+    ValueOffCIter beginValueOff() const;
+    ValueOffCIter cbeginValueOff() const;
+    ValueAllIter beginValueAll();
+    ValueAllCIter beginValueAll() const;
+    ValueAllCIter cbeginValueAll() const;
+    LeafIter beginLeaf();
+    LeafCIter beginLeaf() const;
+    LeafCIter cbeginLeaf() const;
+
+    /// Range over the leaves: `for (auto& leaf : tree.leaves())`.
+    template <typename IterT>
+    struct Range {
+        IterT first;
+        IterT begin() const { return first; }
+        std::default_sentinel_t end() const { return {}; }
+    };
+    Range<LeafIter> leaves() { return {beginLeaf()}; }
+    Range<LeafCIter> leaves() const { return {cbeginLeaf()}; }
+
+    // ---- Accessor registry
+    /// Makes every accessor of this tree drop its cache at its next call. Code that frees
+    /// nodes through the node API (rather than through Tree methods) must call this.
+    void clearAllAccessors() { mEpoch.fetch_add(1, std::memory_order_relaxed); }
+    /// The structural-change counter that accessors compare against.
+    uint64_t epoch() const { return mEpoch.load(std::memory_order_relaxed); }
+
+    /// Throws IndexError when `ijk` is outside domain().
+    static void checkDomain(const Coord& ijk) {
+        if (!inDomain(ijk))
+            throwOutside(ijk);
+    }
+
+private:
+    static std::unique_ptr<TopT> makeTop(const ValueType& background) {
+        if constexpr (BOUNDED) {
+            return std::make_unique<TopT>(CenteredDomain{}, background);
+        } else {
+            return std::make_unique<TopT>(background);
+        }
+    }
+    [[noreturn]] static void throwOutside(const Coord& ijk) {
+        std::ostringstream msg;
+        msg << "coordinate " << ijk << " is outside the tree's fixed domain " << domain();
+        throw IndexError(msg.str());
+    }
+    template <typename UnchangedT, typename LeafOpT>
+    void modify(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op) {
+        checkDomain(ijk);
+        detail::NoCache none;
+        mTop->modifyValue(ijk, unchanged, op, none);
+    }
+
+    std::unique_ptr<TopT> mTop;
+    ValueType mBackground;
+    std::atomic<uint64_t> mEpoch{0};
+};
+
+// ---- Implementation ---------------------------------------------------------------------------
+
+template <TopNodeType TopT>
+Tree<TopT>& Tree<TopT>::operator=(const Tree& other) {
+    if (this != &other) {
+        mTop = std::make_unique<TopT>(*other.mTop);
+        mBackground = other.mBackground;
+        clearAllAccessors();
+    }
+    return *this;
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::setValueOn(const Coord& ijk, const ValueType& value) {
+    modify(
+        ijk, [&](const ValueType& tile, bool on) { return on && tile == value; },
+        [&](LeafNodeType& leaf, Index n) { leaf.setValueOn(n, value); });
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::setValueOn(const Coord& ijk) {
+    modify(
+        ijk, [](const ValueType&, bool on) { return on; },
+        [](LeafNodeType& leaf, Index n) { leaf.setValueOn(n); });
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::setValueOff(const Coord& ijk, const ValueType& value) {
+    modify(
+        ijk, [&](const ValueType& tile, bool on) { return !on && tile == value; },
+        [&](LeafNodeType& leaf, Index n) { leaf.setValueOff(n, value); });
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::setValueOff(const Coord& ijk) {
+    modify(
+        ijk, [](const ValueType&, bool on) { return !on; },
+        [](LeafNodeType& leaf, Index n) { leaf.setValueOff(n); });
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::setValueOnly(const Coord& ijk, const ValueType& value) {
+    modify(
+        ijk, [&](const ValueType& tile, bool) { return tile == value; },
+        [&](LeafNodeType& leaf, Index n) { leaf.setValueOnly(n, value); });
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::setActiveState(const Coord& ijk, bool on) {
+    modify(
+        ijk, [on](const ValueType&, bool tileOn) { return tileOn == on; },
+        [on](LeafNodeType& leaf, Index n) { leaf.setActiveState(n, on); });
+}
+
+template <TopNodeType TopT>
+auto Tree<TopT>::touchLeaf(const Coord& ijk) -> LeafNodeType* {
+    LeafNodeType* result = nullptr;
+    modify(
+        ijk, [](const ValueType&, bool) { return false; },
+        [&](LeafNodeType& leaf, Index) { result = &leaf; });
+    return result;
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::eraseValue(const Coord& ijk) {
+    if (!inDomain(ijk))
+        return;
+    bool deleted = false;
+    if constexpr (BOUNDED) {
+        mTop->eraseValue(ijk, mBackground, deleted);
+    } else {
+        mTop->eraseValue(ijk, deleted);
+    }
+    if (deleted)
+        clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::fill(const CoordBBox& bbox, const ValueType& value, bool active) {
+    if (bbox.empty())
+        return;
+    if (!domain().isInside(bbox)) {
+        std::ostringstream msg;
+        msg << "fill box " << bbox << " extends outside the tree's fixed domain " << domain();
+        throw IndexError(msg.str());
+    }
+    bool deleted = false;
+    mTop->fill(bbox, value, active, deleted);
+    if (deleted)
+        clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::prune(const ValueType& tolerance) {
+    if (mTop->prune(tolerance))
+        clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+void Tree<TopT>::clear() {
+    if constexpr (BOUNDED) {
+        mTop = makeTop(mBackground);
+    } else {
+        mTop->clear();
+    }
+    clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+bool Tree<TopT>::empty() const {
+    if constexpr (BOUNDED) {
+        return mTop->getChildMask().isOff() && mTop->getValueMask().isOff();
+    } else {
+        return mTop->empty();
+    }
+}
+
+}  // namespace vdb::tree
+
+#include <vdb/tree/TreeIterator.h>
+#include <vdb/tree/ValueAccessor.h>

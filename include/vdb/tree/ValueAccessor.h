@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// ValueAccessor: random access to a tree through a cache of the last node visited at each
+/// level, searched bottom-up (paper section 3.2).
+///
+/// @code
+/// vdb::FloatTree::Accessor acc(tree);      // or ValueAccessor<const FloatTree> to read only
+/// for (const vdb::Coord& ijk : coords) acc.setValue(ijk, 1.0f);
+/// @endcode
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Types.h>
+#include <vdb/math/Coord.h>
+#include <vdb/tree/Tree.h>
+
+#include <array>
+#include <tuple>
+#include <type_traits>
+
+namespace vdb::tree {
+
+/// Random access to one tree, caching the node path of the last access.
+///
+/// Each level below the top keeps one node and its origin key. A lookup tries the cached leaf,
+/// then the cached internal nodes upwards, and only on a miss everywhere starts at the top,
+/// so spatially coherent access costs a key comparison and an array read. `TreeT` may be
+/// const: such an accessor only reads.
+///
+/// Never dangles: every call first compares the tree's epoch with the one the cache was
+/// filled under and drops the cache when they differ (the tree advances its epoch whenever
+/// it frees nodes). The check reads one counter that only structural changes write, so
+/// accessors on different threads never contend.
+///
+/// Threads: an accessor is not thread-safe; use one per thread. Any number of accessors may
+/// read one tree concurrently. An accessor must not outlive its tree.
+template <typename TreeT>
+class ValueAccessor {
+public:
+    using TreeType = std::remove_const_t<TreeT>;
+    using ValueType = typename TreeType::ValueType;
+    using LeafNodeType = typename TreeType::LeafNodeType;
+    using TopT = typename TreeType::TopNodeType;
+    static constexpr bool IS_CONST = std::is_const_v<TreeT>;
+    static constexpr Index TOP = TopT::LEVEL;  ///< levels 0 .. TOP-1 are cached
+
+    explicit ValueAccessor(TreeT& tree) : mTree(&tree), mEpoch(tree.epoch()) { clear(); }
+
+    TreeT& tree() const { return *mTree; }
+    /// Drops every cached node.
+    void clear() const {
+        mKeys.fill(Coord::max());  // never a node origin: the low bits of an origin are zero
+        mNodes = {};
+    }
+    /// True when `ijk` lies in a cached node below the top.
+    bool isCached(const Coord& ijk) const {
+        sync();
+        return isCachedAt<0>(ijk);
+    }
+
+    // ---- Reads
+    ValueType getValue(const Coord& ijk) const {
+        sync();
+        return getValueAt<0>(ijk);
+    }
+    bool isValueOn(const Coord& ijk) const {
+        sync();
+        return isValueOnAt<0>(ijk);
+    }
+    /// Stores the value at `ijk` in `value` and returns its active state.
+    bool probeValue(const Coord& ijk, ValueType& value) const {
+        sync();
+        return probeValueAt<0>(ijk, value);
+    }
+    const LeafNodeType* probeConstLeaf(const Coord& ijk) const {
+        sync();
+        return probeConstLeafAt<0>(ijk);
+    }
+
+    // ---- Writes (not on a const tree); writes outside a bounded tree's domain throw IndexError
+    void setValue(const Coord& ijk, const ValueType& value) requires(!IS_CONST) {
+        setValueOn(ijk, value);
+    }
+    void setValueOn(const Coord& ijk, const ValueType& value) requires(!IS_CONST) {
+        modify(
+            ijk, [&](const ValueType& tile, bool on) { return on && tile == value; },
+            [&](LeafNodeType& leaf, Index n) { leaf.setValueOn(n, value); });
+    }
+    void setValueOn(const Coord& ijk) requires(!IS_CONST) {
+        modify(
+            ijk, [](const ValueType&, bool on) { return on; },
+            [](LeafNodeType& leaf, Index n) { leaf.setValueOn(n); });
+    }
+    void setValueOff(const Coord& ijk, const ValueType& value) requires(!IS_CONST) {
+        modify(
+            ijk, [&](const ValueType& tile, bool on) { return !on && tile == value; },
+            [&](LeafNodeType& leaf, Index n) { leaf.setValueOff(n, value); });
+    }
+    void setValueOff(const Coord& ijk) requires(!IS_CONST) {
+        modify(
+            ijk, [](const ValueType&, bool on) { return !on; },
+            [](LeafNodeType& leaf, Index n) { leaf.setValueOff(n); });
+    }
+    void setValueOnly(const Coord& ijk, const ValueType& value) requires(!IS_CONST) {
+        modify(
+            ijk, [&](const ValueType& tile, bool) { return tile == value; },
+            [&](LeafNodeType& leaf, Index n) { leaf.setValueOnly(n, value); });
+    }
+    void setActiveState(const Coord& ijk, bool on) requires(!IS_CONST) {
+        modify(
+            ijk, [on](const ValueType&, bool tileOn) { return tileOn == on; },
+            [on](LeafNodeType& leaf, Index n) { leaf.setActiveState(n, on); });
+    }
+    /// Random deletion; see Tree::eraseValue.
+    void eraseValue(const Coord& ijk) requires(!IS_CONST) { mTree->eraseValue(ijk); }
+    LeafNodeType* probeLeaf(const Coord& ijk) requires(!IS_CONST) {
+        sync();
+        return probeLeafAt<0>(ijk);
+    }
+    /// Returns the leaf holding `ijk`, creating it and its parents if needed.
+    LeafNodeType* touchLeaf(const Coord& ijk) requires(!IS_CONST) {
+        LeafNodeType* result = nullptr;
+        modify(
+            ijk, [](const ValueType&, bool) { return false; },
+            [&](LeafNodeType& leaf, Index) { result = &leaf; });
+        return result;
+    }
+
+    /// Records `node` as the cached node of its level (called by the nodes on the way down).
+    template <typename NodeT>
+    void insert(const Coord& ijk, NodeT* node) const {
+        constexpr Index L = NodeT::LEVEL;
+        std::get<L>(mNodes) = const_cast<CachedNode<L>*>(node);
+        mKeys[L] = ijk.alignedDown(NodeT::TOTAL);
+    }
+
+private:
+    template <Index L>
+    using CachedNode =
+        std::conditional_t<IS_CONST, const NodeAtLevelT<TopT, L>, NodeAtLevelT<TopT, L>>;
+    template <typename Seq>
+    struct CacheTuple;
+    template <size_t... L>
+    struct CacheTuple<std::index_sequence<L...>> {
+        using Type = std::tuple<CachedNode<Index(L)>*...>;
+    };
+    using Nodes = typename CacheTuple<std::make_index_sequence<TOP>>::Type;
+
+    void sync() const {
+        const uint64_t epoch = mTree->epoch();
+        if (epoch != mEpoch) {
+            clear();
+            mEpoch = epoch;
+        }
+    }
+    template <Index L>
+    bool hit(const Coord& ijk) const {
+        return ijk.alignedDown(NodeAtLevelT<TopT, L>::TOTAL) == mKeys[L];
+    }
+    template <Index L>
+    bool isCachedAt(const Coord& ijk) const {
+        if constexpr (L == TOP) {
+            return false;
+        } else {
+            return hit<L>(ijk) || isCachedAt<L + 1>(ijk);
+        }
+    }
+
+    template <Index L>
+    ValueType getValueAt(const Coord& ijk) const {
+        if constexpr (L == TOP) {
+            if (!TreeType::inDomain(ijk))
+                return mTree->background();
+            return mTree->topNode().getValueAndCache(ijk, *this);
+        } else {
+            if (!hit<L>(ijk))
+                return getValueAt<L + 1>(ijk);
+            if constexpr (L == 0) {
+                return std::get<0>(mNodes)->getValue(ijk);
+            } else {
+                return std::get<L>(mNodes)->getValueAndCache(ijk, *this);
+            }
+        }
+    }
+    template <Index L>
+    bool isValueOnAt(const Coord& ijk) const {
+        if constexpr (L == TOP) {
+            if (!TreeType::inDomain(ijk))
+                return false;
+            return mTree->topNode().isValueOnAndCache(ijk, *this);
+        } else {
+            if (!hit<L>(ijk))
+                return isValueOnAt<L + 1>(ijk);
+            if constexpr (L == 0) {
+                return std::get<0>(mNodes)->isValueOn(ijk);
+            } else {
+                return std::get<L>(mNodes)->isValueOnAndCache(ijk, *this);
+            }
+        }
+    }
+    template <Index L>
+    bool probeValueAt(const Coord& ijk, ValueType& value) const {
+        if constexpr (L == TOP) {
+            if (!TreeType::inDomain(ijk)) {
+                value = mTree->background();
+                return false;
+            }
+            return mTree->topNode().probeValueAndCache(ijk, value, *this);
+        } else {
+            if (!hit<L>(ijk))
+                return probeValueAt<L + 1>(ijk, value);
+            if constexpr (L == 0) {
+                return std::get<0>(mNodes)->probeValue(ijk, value);
+            } else {
+                return std::get<L>(mNodes)->probeValueAndCache(ijk, value, *this);
+            }
+        }
+    }
+    template <Index L>
+    const LeafNodeType* probeConstLeafAt(const Coord& ijk) const {
+        if constexpr (L == TOP) {
+            if (!TreeType::inDomain(ijk))
+                return nullptr;
+            return mTree->topNode().probeConstLeafAndCache(ijk, *this);
+        } else {
+            if (!hit<L>(ijk))
+                return probeConstLeafAt<L + 1>(ijk);
+            if constexpr (L == 0) {
+                return std::get<0>(mNodes);
+            } else {
+                return std::get<L>(mNodes)->probeConstLeafAndCache(ijk, *this);
+            }
+        }
+    }
+    template <Index L>
+    LeafNodeType* probeLeafAt(const Coord& ijk) {
+        if constexpr (L == TOP) {
+            if (!TreeType::inDomain(ijk))
+                return nullptr;
+            return mTree->topNode().probeLeafAndCache(ijk, *this);
+        } else {
+            if (!hit<L>(ijk))
+                return probeLeafAt<L + 1>(ijk);
+            if constexpr (L == 0) {
+                return std::get<0>(mNodes);
+            } else {
+                return std::get<L>(mNodes)->probeLeafAndCache(ijk, *this);
+            }
+        }
+    }
+
+    template <typename UnchangedT, typename LeafOpT>
+    void modify(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op) {
+        sync();
+        modifyAt<0>(ijk, unchanged, op);
+    }
+    template <Index L, typename UnchangedT, typename LeafOpT>
+    void modifyAt(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op) {
+        if constexpr (L == TOP) {
+            TreeType::checkDomain(ijk);
+            mTree->topNode().modifyValue(ijk, unchanged, op, *this);
+        } else {
+            if (!hit<L>(ijk))
+                return modifyAt<L + 1>(ijk, unchanged, op);
+            if constexpr (L == 0) {
+                op(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk));
+            } else {
+                std::get<L>(mNodes)->modifyValue(ijk, unchanged, op, *this);
+            }
+        }
+    }
+
+    TreeT* mTree;
+    mutable uint64_t mEpoch;
+    mutable std::array<Coord, TOP> mKeys;
+    mutable Nodes mNodes;
+};
+
+}  // namespace vdb::tree
