@@ -164,7 +164,8 @@ public:
         const auto e = extents();
         return Coord(Int32(e[0]), Int32(e[1]), Int32(e[2]));
     }
-    /// Number of voxels in the box (0 when empty).
+    /// Number of voxels in the box (0 when empty). Boxes of 2^64 voxels or more wrap modulo
+    /// 2^64 (only boxes spanning the full 32-bit range on every axis come close).
     constexpr Index64 volume() const {
         const auto e = extents();
         return Index64(e[0]) * Index64(e[1]) * Index64(e[2]);

@@ -11,6 +11,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <iterator>
 
 namespace vdb::util {
 
