@@ -35,6 +35,8 @@ template <typename TreeT, ValueFilter Filter>
 class TreeValueIterator;
 template <typename TreeT>
 class TreeLeafIterator;
+template <typename TreeT>
+class TreeNodeIterator;
 
 /// True for node types that can be the top of a tree: a RootNode or an InternalNode.
 template <typename NodeT>
@@ -85,6 +87,8 @@ public:
     using ValueAllCIter = TreeValueIterator<const Tree, ValueFilter::All>;
     using LeafIter = TreeLeafIterator<Tree>;
     using LeafCIter = TreeLeafIterator<const Tree>;
+    using NodeIter = TreeNodeIterator<Tree>;
+    using NodeCIter = TreeNodeIterator<const Tree>;
 
     Tree() : Tree(ValueType{}) {}
     explicit Tree(const ValueType& background)
@@ -213,6 +217,9 @@ public:
     LeafIter beginLeaf();
     LeafCIter beginLeaf() const;
     LeafCIter cbeginLeaf() const;
+    /// Every node, top first, each before its children.
+    NodeIter beginNode();
+    NodeCIter cbeginNode() const;
 
     /// Range over the leaves: `for (auto& leaf : tree.leaves())`.
     template <typename IterT>

@@ -60,6 +60,49 @@ using FixedTree3333 = Tree<InternalNode<InternalNode<InternalNode<LeafNode<Value
 
 }  // namespace vdb::tree
 
+// ---- Instantiated once in src/instantiate/Trees.cpp
+
+namespace vdb::tree {
+
+extern template class LeafNode<float, 3>;
+extern template class InternalNode<LeafNode<float, 3>, 4>;
+extern template class InternalNode<InternalNode<LeafNode<float, 3>, 4>, 5>;
+extern template class RootNode<InternalNode<InternalNode<LeafNode<float, 3>, 4>, 5>, HashTable>;
+extern template class Tree<
+    RootNode<InternalNode<InternalNode<LeafNode<float, 3>, 4>, 5>, HashTable>>;
+extern template class LeafNode<double, 3>;
+extern template class InternalNode<LeafNode<double, 3>, 4>;
+extern template class InternalNode<InternalNode<LeafNode<double, 3>, 4>, 5>;
+extern template class RootNode<InternalNode<InternalNode<LeafNode<double, 3>, 4>, 5>, HashTable>;
+extern template class Tree<
+    RootNode<InternalNode<InternalNode<LeafNode<double, 3>, 4>, 5>, HashTable>>;
+extern template class LeafNode<Int32, 3>;
+extern template class InternalNode<LeafNode<Int32, 3>, 4>;
+extern template class InternalNode<InternalNode<LeafNode<Int32, 3>, 4>, 5>;
+extern template class RootNode<InternalNode<InternalNode<LeafNode<Int32, 3>, 4>, 5>, HashTable>;
+extern template class Tree<
+    RootNode<InternalNode<InternalNode<LeafNode<Int32, 3>, 4>, 5>, HashTable>>;
+extern template class LeafNode<Int64, 3>;
+extern template class InternalNode<LeafNode<Int64, 3>, 4>;
+extern template class InternalNode<InternalNode<LeafNode<Int64, 3>, 4>, 5>;
+extern template class RootNode<InternalNode<InternalNode<LeafNode<Int64, 3>, 4>, 5>, HashTable>;
+extern template class Tree<
+    RootNode<InternalNode<InternalNode<LeafNode<Int64, 3>, 4>, 5>, HashTable>>;
+extern template class LeafNode<bool, 3>;
+extern template class InternalNode<LeafNode<bool, 3>, 4>;
+extern template class InternalNode<InternalNode<LeafNode<bool, 3>, 4>, 5>;
+extern template class RootNode<InternalNode<InternalNode<LeafNode<bool, 3>, 4>, 5>, HashTable>;
+extern template class Tree<
+    RootNode<InternalNode<InternalNode<LeafNode<bool, 3>, 4>, 5>, HashTable>>;
+extern template class LeafNode<ValueMask, 3>;
+extern template class InternalNode<LeafNode<ValueMask, 3>, 4>;
+extern template class InternalNode<InternalNode<LeafNode<ValueMask, 3>, 4>, 5>;
+extern template class RootNode<InternalNode<InternalNode<LeafNode<ValueMask, 3>, 4>, 5>, HashTable>;
+extern template class Tree<
+    RootNode<InternalNode<InternalNode<LeafNode<ValueMask, 3>, 4>, 5>, HashTable>>;
+
+}  // namespace vdb::tree
+
 namespace vdb {
 
 using FloatTree = tree::Tree4<float>::Type;

@@ -45,7 +45,7 @@ template <typename TopT>
 using NodePtrTuple =
     typename NodePtrTupleImpl<TopT, std::make_index_sequence<TopT::LEVEL + 1>>::Type;
 
-enum class WalkMode { ValueOn, ValueOff, ValueAll, Leaf };
+enum class WalkMode { ValueOn, ValueOff, ValueAll, Leaf, Node };
 
 /// The depth-first walk shared by the value and leaf iterators. It keeps one node and one table
 /// position per level; `mLevel` is the level of the current item.
@@ -78,12 +78,22 @@ public:
             mTopPos = 0;
         }
         mDone = false;
-        climb<TOP>();
+        if constexpr (Mode == WalkMode::Node) {
+            mLevel = TOP;  // the top node is the first item
+        } else {
+            climb<TOP>();
+        }
     }
 
     bool done() const { return mDone; }
     Index level() const { return mLevel; }
-    void increment() { incrementAt<Mode == WalkMode::Leaf ? 1 : 0>(); }
+    void increment() {
+        if constexpr (Mode == WalkMode::Node) {
+            incrementNode<0>();
+        } else {
+            incrementAt<Mode == WalkMode::Leaf ? 1 : 0>();
+        }
+    }
 
     template <Index L>
     NodeT<L>* node() const {
@@ -138,7 +148,10 @@ private:
     template <Index L>
     bool descend(NodeT<L - 1>* child) {
         std::get<L - 1>(mNodes) = child;
-        if constexpr (Mode == WalkMode::Leaf && L == 1) {
+        if constexpr (Mode == WalkMode::Node) {
+            mLevel = L - 1;  // a node is visited when it is entered
+            return true;
+        } else if constexpr (Mode == WalkMode::Leaf && L == 1) {
             mLevel = 1;
             return true;
         } else {
@@ -189,7 +202,7 @@ private:
                         p, [&](Index w) { return child.getWord(w) | value.getWord(w); });
                 } else if constexpr (Mode == WalkMode::ValueOff) {
                     p = scanWords<N::NUM_VALUES>(p, [&](Index w) { return ~value.getWord(w); });
-                } else if constexpr (Mode == WalkMode::Leaf) {
+                } else if constexpr (Mode == WalkMode::Leaf || Mode == WalkMode::Node) {
                     p = child.findNextOn(p);
                 }
                 if (p >= N::NUM_VALUES)
@@ -224,6 +237,26 @@ private:
             mDone = true;
         } else {
             advance<L + 1>();
+        }
+    }
+    // Node mode: after a leaf, move on in its parent; after any other node, enter its table.
+    template <Index L>
+    void incrementNode() {
+        if constexpr (L < TOP) {
+            if (mLevel != L) {
+                incrementNode<L + 1>();
+                return;
+            }
+        }
+        if constexpr (L == 0) {
+            advance<1>();
+        } else {
+            if constexpr (L == TOP && ROOT_TOP) {
+                mTopPos = top()->cbegin();
+            } else {
+                posAt<L>() = 0;
+            }
+            climb<L>();
         }
     }
     template <Index L>
@@ -388,7 +421,80 @@ private:
     Walk mWalk;
 };
 
+/// Visits every node of a tree once, depth-first, each before its children, the top node
+/// first: `for (auto it = tree.cbeginNode(); it; ++it) if (auto* leaf =
+/// it.getNode<LeafT>()) ...`.
+template <typename TreeT>
+class TreeNodeIterator {
+    using Walk = detail::TreeWalk<TreeT, detail::WalkMode::Node>;
+    static constexpr Index TOP = Walk::TOP;
+
+public:
+    TreeNodeIterator() = default;
+    explicit TreeNodeIterator(TreeT& tree) : mWalk(tree) {}
+
+    explicit operator bool() const { return !mWalk.done(); }
+    bool test() const { return !mWalk.done(); }
+    bool operator==(std::default_sentinel_t) const { return mWalk.done(); }
+    TreeNodeIterator& operator++() {
+        mWalk.increment();
+        return *this;
+    }
+
+    /// The current node's level: 0 for a leaf, DEPTH-1 for the top.
+    Index getLevel() const { return mWalk.level(); }
+    /// The current node if its type is NodeT, else null.
+    template <typename NodeT>
+    NodeT* getNode() const {
+        return mWalk.dispatch([&](auto level) -> NodeT* {
+            constexpr Index L = decltype(level)::value;
+            using Found = typename Walk::template NodeT<L>;
+            if constexpr (std::is_same_v<std::remove_const_t<NodeT>, Found> &&
+                          (std::is_const_v<NodeT> || !std::is_const_v<TreeT>)) {
+                return mWalk.template node<L>();
+            } else {
+                return nullptr;
+            }
+        });
+    }
+    /// The origin of the current node (the origin of index space for a root).
+    Coord getCoord() const {
+        return mWalk.dispatch([&](auto level) -> Coord {
+            constexpr Index L = decltype(level)::value;
+            if constexpr (L == TOP && Walk::ROOT_TOP) {
+                return Coord(0);
+            } else {
+                return mWalk.template node<L>()->origin();
+            }
+        });
+    }
+    /// Sets `bbox` to the region the current node covers.
+    bool getBoundingBox(CoordBBox& bbox) const {
+        bbox = mWalk.dispatch([&](auto level) -> CoordBBox {
+            constexpr Index L = decltype(level)::value;
+            if constexpr (L == TOP && Walk::ROOT_TOP) {
+                return CoordBBox::inf();
+            } else {
+                return mWalk.template node<L>()->getNodeBoundingBox();
+            }
+        });
+        return true;
+    }
+
+private:
+    Walk mWalk;
+};
+
 // ---- Tree's iterator factories
+
+template <TopNodeType TopT>
+auto Tree<TopT>::beginNode() -> NodeIter {
+    return NodeIter(*this);
+}
+template <TopNodeType TopT>
+auto Tree<TopT>::cbeginNode() const -> NodeCIter {
+    return NodeCIter(*this);
+}
 
 template <TopNodeType TopT>
 auto Tree<TopT>::beginValueOn() -> ValueOnIter {
