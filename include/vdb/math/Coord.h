@@ -77,7 +77,10 @@ public:
         return Coord(mVec[0] >> n, mVec[1] >> n, mVec[2] >> n);
     }
 
-    constexpr bool operator==(const Coord& o) const = default;
+    constexpr bool operator==(const Coord& o) const {
+        // One test instead of three branches: equal iff no bit differs.
+        return ((mVec[0] ^ o.mVec[0]) | (mVec[1] ^ o.mVec[1]) | (mVec[2] ^ o.mVec[2])) == 0;
+    }
 
     /// Lexicographic order on (x, y, z); the order of OpenVDB's root table and file layout.
     constexpr bool operator<(const Coord& o) const {

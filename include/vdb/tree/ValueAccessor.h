@@ -62,11 +62,15 @@ public:
     // ---- Reads
     ValueType getValue(const Coord& ijk) const {
         sync();
-        return getValueAt<0>(ijk);
+        if (hit<0>(ijk))
+            return std::get<0>(mNodes)->getValue(ijk);
+        return getValueAt<1>(ijk);
     }
     bool isValueOn(const Coord& ijk) const {
         sync();
-        return isValueOnAt<0>(ijk);
+        if (hit<0>(ijk))
+            return std::get<0>(mNodes)->isValueOn(ijk);
+        return isValueOnAt<1>(ijk);
     }
     /// Stores the value at `ijk` in `value` and returns its active state.
     bool probeValue(const Coord& ijk, ValueType& value) const {
@@ -148,15 +152,22 @@ private:
     using Nodes = typename CacheTuple<std::make_index_sequence<TOP>>::Type;
 
     void sync() const {
-        const uint64_t epoch = mTree->epoch();
-        if (epoch != mEpoch) {
-            clear();
-            mEpoch = epoch;
-        }
+        if (mTree->epoch() != mEpoch) [[unlikely]]
+            resync();
     }
+    [[gnu::noinline, gnu::cold]] void resync() const {
+        clear();
+        mEpoch = mTree->epoch();
+    }
+    // True when `ijk` lies in the cached node of level L: the bits above the node's size
+    // equal the key's (whose bits below it are zero).
     template <Index L>
     bool hit(const Coord& ijk) const {
-        return ijk.alignedDown(NodeAtLevelT<TopT, L>::TOTAL) == mKeys[L];
+        constexpr uint32_t high = ~((uint32_t(1) << NodeAtLevelT<TopT, L>::TOTAL) - 1);
+        const Coord& key = mKeys[L];
+        return ((uint32_t(ijk[0] ^ key[0]) | uint32_t(ijk[1] ^ key[1]) |
+                 uint32_t(ijk[2] ^ key[2])) &
+                high) == 0;
     }
     template <Index L>
     bool isCachedAt(const Coord& ijk) const {
@@ -168,14 +179,18 @@ private:
     }
 
     template <Index L>
-    ValueType getValueAt(const Coord& ijk) const {
+    [[gnu::noinline]] ValueType getValueAt(const Coord& ijk) const requires(L == 1) {
+        return getValueFrom<L>(ijk);
+    }
+    template <Index L>
+    ValueType getValueFrom(const Coord& ijk) const {
         if constexpr (L == TOP) {
             if (!TreeType::inDomain(ijk))
                 return mTree->background();
             return mTree->topNode().getValueAndCache(ijk, *this);
         } else {
             if (!hit<L>(ijk))
-                return getValueAt<L + 1>(ijk);
+                return getValueFrom<L + 1>(ijk);
             if constexpr (L == 0) {
                 return std::get<0>(mNodes)->getValue(ijk);
             } else {
@@ -184,14 +199,18 @@ private:
         }
     }
     template <Index L>
-    bool isValueOnAt(const Coord& ijk) const {
+    [[gnu::noinline]] bool isValueOnAt(const Coord& ijk) const requires(L == 1) {
+        return isValueOnFrom<L>(ijk);
+    }
+    template <Index L>
+    bool isValueOnFrom(const Coord& ijk) const {
         if constexpr (L == TOP) {
             if (!TreeType::inDomain(ijk))
                 return false;
             return mTree->topNode().isValueOnAndCache(ijk, *this);
         } else {
             if (!hit<L>(ijk))
-                return isValueOnAt<L + 1>(ijk);
+                return isValueOnFrom<L + 1>(ijk);
             if constexpr (L == 0) {
                 return std::get<0>(mNodes)->isValueOn(ijk);
             } else {
