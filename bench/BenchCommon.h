@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Library-neutral inputs for the benchmarks: the Enright sphere narrow band of the paper's
+/// section 5, a portable seeded shuffle, and the process memory readings of Table II.
+///
+/// Nothing here includes either tree library, so every benchmark feeds this library and
+/// OpenVDB the same coordinates and values in the same order.
+
+#pragma once
+
+#include <malloc.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <utility>
+#include <vector>
+
+namespace vdb::bench {
+
+/// One active voxel of a test band: index-space coordinate and value.
+struct BandVoxel {
+    int32_t x, y, z;
+    float value;
+};
+
+/// The Enright sphere of the paper's section 5: radius 0.15 centred at (0.35, 0.35, 0.35) in
+/// the unit box, sampled at voxel size 1/resolution.
+struct EnrightSphere {
+    static constexpr double kCenter = 0.35;
+    static constexpr double kRadius = 0.15;
+    /// Half width of the narrow band in voxels: the band is 10 voxels wide.
+    static constexpr double kHalfWidth = 5.0;
+
+    /// Active voxel counts the paper reports for this band (section 5), or 0 when it gives none.
+    static constexpr uint64_t paperActiveVoxels(int resolution) {
+        switch (resolution) {
+            case 512:
+                return 794'720;
+            case 1024:
+                return 3'189'240;
+            case 2048:
+                return 12'784'621;
+            case 4096:
+                return 51'033'829;
+            default:
+                return 0;
+        }
+    }
+};
+
+/// Returns the voxels of the Enright sphere's narrow band at `resolution`, in x-major scanline
+/// order.
+///
+/// Voxel (i, j, k) sits at world position (i, j, k) / resolution. Its value is the signed
+/// distance to the sphere in voxel units (negative inside), and it belongs to the band when
+/// that distance is less than kHalfWidth in magnitude. Cost: one square root per voxel of the
+/// sphere's bounding box, less the rows that miss the band.
+inline std::vector<BandVoxel> makeEnrightBand(int resolution) {
+    const double center = EnrightSphere::kCenter * resolution;
+    const double radius = EnrightSphere::kRadius * resolution;
+    const double outer = radius + EnrightSphere::kHalfWidth;
+    const int lo = int(std::floor(center - outer)) - 1;
+    const int hi = int(std::ceil(center + outer)) + 1;
+
+    std::vector<BandVoxel> band;
+    band.reserve(size_t(4.0 * 3.15 * radius * radius * 2.0 * EnrightSphere::kHalfWidth * 1.1));
+    for (int i = lo; i <= hi; ++i) {
+        const double dx = i - center;
+        for (int j = lo; j <= hi; ++j) {
+            const double dy = j - center;
+            // Only the k within the outer radius can hold band voxels.
+            const double rest = outer * outer - dx * dx - dy * dy;
+            if (rest < 0.0)
+                continue;
+            const double reach = std::sqrt(rest);
+            const int kLo = std::max(lo, int(std::floor(center - reach)));
+            const int kHi = std::min(hi, int(std::ceil(center + reach)));
+            for (int k = kLo; k <= kHi; ++k) {
+                const double dz = k - center;
+                const double dist = std::sqrt(dx * dx + dy * dy + dz * dz) - radius;
+                if (std::abs(dist) < EnrightSphere::kHalfWidth) {
+                    band.push_back({i, j, k, float(dist)});
+                }
+            }
+        }
+    }
+    return band;
+}
+
+/// SplitMix64: a small seeded generator whose output is the same on every platform, unlike the
+/// distributions of <random>.
+class SplitMix64 {
+public:
+    explicit SplitMix64(uint64_t seed) : mState(seed) {}
+    uint64_t operator()() {
+        uint64_t z = (mState += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    /// Returns a number in [0, n); the modulo bias is below n / 2^64.
+    uint64_t below(uint64_t n) { return (*this)() % n; }
+
+private:
+    uint64_t mState;
+};
+
+/// Fisher-Yates shuffle driven by SplitMix64(seed): the same permutation on every platform.
+template <typename T>
+void shuffle(std::vector<T>& items, uint64_t seed) {
+    SplitMix64 rng(seed);
+    for (size_t n = items.size(); n > 1; --n) {
+        std::swap(items[n - 1], items[rng.below(n)]);
+    }
+}
+
+/// Returns `count` items drawn uniformly, with replacement, from `items`.
+template <typename T>
+std::vector<T> sample(const std::vector<T>& items, size_t count, uint64_t seed) {
+    SplitMix64 rng(seed);
+    std::vector<T> out(count);
+    for (T& item : out)
+        item = items[rng.below(items.size())];
+    return out;
+}
+
+/// Resident set size of this process in bytes, from /proc/self/statm (the paper's Table II
+/// reads memory from the OS); 0 where that file cannot be read.
+inline uint64_t residentBytes() {
+    unsigned long pages = 0, resident = 0;
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f)
+        return 0;
+    const int n = std::fscanf(f, "%lu %lu", &pages, &resident);
+    std::fclose(f);
+    return n == 2 ? uint64_t(resident) * uint64_t(sysconf(_SC_PAGESIZE)) : 0;
+}
+
+/// Hands freed heap pages back to the OS, so that a following RSS delta counts only new
+/// allocations.
+inline void releaseFreeMemory() {
+    malloc_trim(0);
+}
+
+}  // namespace vdb::bench

@@ -1,0 +1,659 @@
+// SPDX-License-Identifier: Apache-2.0
+// The tree access benchmarks of the paper's Table II (Museth 2013, section 5): this library
+// against OpenVDB 10 on the same Enright sphere band, in one process.
+//
+// Every benchmark is a template on a library tag: Vdb (the standard [Hash,5,4,3] tree),
+// VdbFixed6543 ([6,5,4,3], a fixed internal node on top), VdbMap543 ([Map,5,4,3]) and OpenVdb
+// (openvdb::FloatTree, whose root table is a std::map: [Map,5,4,3]), plus OpenVdbTwin, a
+// second OpenVDB tree whose ratio to the first is the noise floor. Each library builds its
+// tree from the same coordinate list in the same shuffled order. After the Google Benchmark
+// run, main() prints the median and the minimum time per operation of each library over the
+// repetitions, and its ratio to OpenVDB.
+//
+//   BM_MemUsage        tree.memUsage() and the RSS growth while the tree is built
+//   BM_CachedLookup    accessor lookups, Args {coordinates, run length}: {100, 100000} is
+//                      Table II (each coordinate repeated 10^5 times in a row, 10^7 lookups);
+//                      {100, 1} visits the 100 coordinates round-robin, so that each lookup
+//                      leaves the accessor's cached leaf
+//   BM_TopDownLookup   the same with tree.getValue(), a root-to-leaf walk every time
+//   BM_CachedRandomLookup / BM_TopDownRandomLookup
+//                      10^7 lookups of distinct random active voxels (memory bound)
+//   BM_ValueIteration  sum of all active values through tree.cbeginValueOn()
+//   BM_LeafIteration   the same through tree.cbeginLeaf() and each leaf's value mask
+//   BM_RandomInsert / BM_RandomInsertTopDown
+//                      the whole band in random order into an empty tree, with an accessor
+//                      or with tree.setValue()
+
+#include <vdb/tree/TreeConfigs.h>
+#include <vdb/tree/ValueAccessor.h>
+#include <vdb/vdb.h>
+
+#include "BenchCommon.h"
+#include <benchmark/benchmark.h>
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace {
+
+using vdb::bench::BandVoxel;
+using vdb::bench::EnrightSphere;
+
+// ---- Fixed sizes and seeds ----
+
+constexpr int kResolution = 1024;
+constexpr int64_t kLookups = 10'000'000;  // lookups per benchmark iteration
+constexpr int kProbeCount = 100;          // Table II: 100 random coordinates
+constexpr int64_t kTableTwoRunLength = kLookups / kProbeCount;
+constexpr float kBackground = float(EnrightSphere::kHalfWidth);  // values are in voxel units
+constexpr uint64_t kInsertSeed = 20130601;                       // insertion order
+constexpr uint64_t kProbeSeed = 7;                               // the 100 Table II coordinates
+constexpr uint64_t kRandomProbeSeed = 11;                        // the 10^7 distinct lookups
+
+// ---- Library tags ----
+
+struct Vdb {
+    static constexpr const char* kName = "Vdb";
+    static constexpr const char* kConfig = "[Hash,5,4,3]";
+    using TreeType = vdb::FloatTree;
+    using CoordType = vdb::Coord;
+    template <typename TreeT>
+    using Accessor = vdb::tree::ValueAccessor<TreeT>;
+};
+
+struct VdbFixed6543 {
+    static constexpr const char* kName = "VdbFixed6543";
+    static constexpr const char* kConfig = "[6,5,4,3]";
+    using TreeType = vdb::tree::FixedTree6543<float>;
+    using CoordType = vdb::Coord;
+    template <typename TreeT>
+    using Accessor = vdb::tree::ValueAccessor<TreeT>;
+};
+
+struct VdbMap543 {
+    static constexpr const char* kName = "VdbMap543";
+    static constexpr const char* kConfig = "[Map,5,4,3]";
+    using TreeType = vdb::tree::MapTree543<float>;
+    using CoordType = vdb::Coord;
+    template <typename TreeT>
+    using Accessor = vdb::tree::ValueAccessor<TreeT>;
+};
+
+// OpenVDB's RootNode keeps its table in a std::map: [Map,5,4,3] in the paper's notation.
+struct OpenVdb {
+    static constexpr const char* kName = "OpenVdb";
+    static constexpr const char* kConfig = "[Map,5,4,3]";
+    using TreeType = openvdb::FloatTree;
+    using CoordType = openvdb::Coord;
+    template <typename TreeT>
+    using Accessor = openvdb::tree::ValueAccessor<TreeT>;
+};
+
+// A second OpenVDB tree built the same way: its ratio to OpenVdb is the noise floor of the
+// comparison (run-to-run noise plus the effect of where the heap placed each tree's nodes).
+struct OpenVdbTwin : OpenVdb {
+    static constexpr const char* kName = "OpenVdbTwin";
+};
+
+// ---- Shared inputs ----
+
+struct Inputs {
+    std::vector<BandVoxel> band;          // every band voxel, in the shuffled insertion order
+    std::vector<BandVoxel> probes;        // kProbeCount random band voxels
+    std::vector<BandVoxel> randomProbes;  // kLookups random band voxels
+};
+
+const Inputs& inputs() {
+    static const Inputs in = [] {
+        Inputs made;
+        made.band = vdb::bench::makeEnrightBand(kResolution);
+        vdb::bench::shuffle(made.band, kInsertSeed);
+        made.probes = vdb::bench::sample(made.band, kProbeCount, kProbeSeed);
+        made.randomProbes = vdb::bench::sample(made.band, size_t(kLookups), kRandomProbeSeed);
+        return made;
+    }();
+    return in;
+}
+
+template <typename Lib>
+typename Lib::CoordType coordOf(const BandVoxel& v) {
+    return typename Lib::CoordType(v.x, v.y, v.z);
+}
+
+template <typename Lib>
+std::unique_ptr<typename Lib::TreeType> buildWithAccessor(const std::vector<BandVoxel>& band) {
+    using TreeT = typename Lib::TreeType;
+    auto tree = std::make_unique<TreeT>(kBackground);
+    typename Lib::template Accessor<TreeT> acc(*tree);
+    for (const BandVoxel& v : band)
+        acc.setValue(coordOf<Lib>(v), v.value);
+    return tree;
+}
+
+/// The tree of library `Lib` that the lookup and iteration benchmarks read, built on first
+/// use from the shuffled band and checked against it once.
+template <typename Lib>
+struct SharedTree {
+    std::unique_ptr<typename Lib::TreeType> tree;
+    std::string error;  // empty when every band voxel reads back active with its value
+};
+
+// Set once sharedTree<Lib>() has built its tree, so that the summary reports only those.
+template <typename Lib>
+bool sharedTreeBuilt = false;
+
+template <typename Lib>
+const SharedTree<Lib>& sharedTree() {
+    static const SharedTree<Lib> shared = [] {
+        sharedTreeBuilt<Lib> = true;
+        SharedTree<Lib> made;
+        const auto& band = inputs().band;
+        made.tree = buildWithAccessor<Lib>(band);
+        const uint64_t count = made.tree->activeVoxelCount();
+        if (count != band.size()) {
+            made.error = std::string(Lib::kName) + ": activeVoxelCount() " + std::to_string(count) +
+                         " != band size " + std::to_string(band.size());
+            return made;
+        }
+        typename Lib::template Accessor<const typename Lib::TreeType> acc(*made.tree);
+        for (const BandVoxel& v : band) {
+            const auto ijk = coordOf<Lib>(v);
+            if (!acc.isValueOn(ijk) || acc.getValue(ijk) != v.value) {
+                made.error = std::string(Lib::kName) + ": wrong value read back at (" +
+                             std::to_string(v.x) + ", " + std::to_string(v.y) + ", " +
+                             std::to_string(v.z) + ")";
+                return made;
+            }
+        }
+        return made;
+    }();
+    return shared;
+}
+
+// Keeps `value` alive in a register without a memory clobber, so that the compiler must
+// compute it but may still keep the accessor's cache in registers.
+inline void consume(float value) {
+    asm volatile("" : : "x"(value));
+}
+
+// Records the operations per iteration: "ops" for the summary table, and "time/op" (seconds,
+// shown with an SI prefix) for the console.
+void setOps(benchmark::State& state, int64_t opsPerIteration) {
+    state.counters["ops"] = double(opsPerIteration);
+    state.counters["time/op"] =
+        benchmark::Counter(double(opsPerIteration), benchmark::Counter::kIsIterationInvariantRate |
+                                                        benchmark::Counter::kInvert);
+}
+
+// ---- Benchmarks ----
+
+template <typename Lib>
+void BM_MemUsage(benchmark::State& state) {
+    const auto& band = inputs().band;
+    double memUsage = 0, rss = 0;
+    for (auto _ : state) {
+        vdb::bench::releaseFreeMemory();
+        const uint64_t before = vdb::bench::residentBytes();
+        auto tree = buildWithAccessor<Lib>(band);
+        rss = double(vdb::bench::residentBytes() - before);
+        memUsage = double(tree->memUsage());
+        state.PauseTiming();
+        tree.reset();
+        state.ResumeTiming();
+    }
+    state.counters["memUsage_MB"] = memUsage / (1024.0 * 1024.0);
+    state.counters["rss_MB"] = rss / (1024.0 * 1024.0);
+    state.counters["B/voxel"] = memUsage / double(band.size());
+}
+
+// Args {coordinates, run length}: each coordinate is looked up `run length` times in a row,
+// and the list is swept until kLookups lookups are done. The coordinates are read through a
+// volatile pointer, so no lookup can be hoisted out of the loop.
+template <typename Lib, bool Cached>
+void lookupRepeated(benchmark::State& state) {
+    const auto& shared = sharedTree<Lib>();
+    if (!shared.error.empty()) {
+        state.SkipWithError(shared.error.c_str());
+        return;
+    }
+    const auto& tree = *shared.tree;
+    const int count = int(state.range(0));
+    const int64_t runLength = state.range(1);
+    const int64_t sweeps = kLookups / (count * runLength);
+    const volatile BandVoxel* probes = inputs().probes.data();
+    typename Lib::template Accessor<const typename Lib::TreeType> acc(tree);
+    for (auto _ : state) {
+        for (int64_t sweep = 0; sweep < sweeps; ++sweep) {
+            for (int i = 0; i < count; ++i) {
+                for (int64_t n = 0; n < runLength; ++n) {
+                    const typename Lib::CoordType ijk(probes[i].x, probes[i].y, probes[i].z);
+                    if constexpr (Cached) {
+                        consume(acc.getValue(ijk));
+                    } else {
+                        consume(tree.getValue(ijk));
+                    }
+                }
+            }
+        }
+    }
+    setOps(state, sweeps * count * runLength);
+}
+
+template <typename Lib>
+void BM_CachedLookup(benchmark::State& state) {
+    lookupRepeated<Lib, true>(state);
+}
+
+template <typename Lib>
+void BM_TopDownLookup(benchmark::State& state) {
+    lookupRepeated<Lib, false>(state);
+}
+
+// Arg: number of lookups, each of a distinct random band voxel from a pre-generated list.
+template <typename Lib, bool Cached>
+void lookupRandom(benchmark::State& state) {
+    const auto& shared = sharedTree<Lib>();
+    if (!shared.error.empty()) {
+        state.SkipWithError(shared.error.c_str());
+        return;
+    }
+    const auto& tree = *shared.tree;
+    const auto& probes = inputs().randomProbes;
+    const size_t count = std::min(size_t(state.range(0)), probes.size());
+    typename Lib::template Accessor<const typename Lib::TreeType> acc(tree);
+    for (auto _ : state) {
+        for (size_t i = 0; i < count; ++i) {
+            const auto ijk = coordOf<Lib>(probes[i]);
+            if constexpr (Cached) {
+                consume(acc.getValue(ijk));
+            } else {
+                consume(tree.getValue(ijk));
+            }
+        }
+    }
+    setOps(state, int64_t(count));
+}
+
+template <typename Lib>
+void BM_CachedRandomLookup(benchmark::State& state) {
+    lookupRandom<Lib, true>(state);
+}
+
+template <typename Lib>
+void BM_TopDownRandomLookup(benchmark::State& state) {
+    lookupRandom<Lib, false>(state);
+}
+
+template <typename Lib>
+void BM_ValueIteration(benchmark::State& state) {
+    const auto& shared = sharedTree<Lib>();
+    if (!shared.error.empty()) {
+        state.SkipWithError(shared.error.c_str());
+        return;
+    }
+    const auto& tree = *shared.tree;
+    uint64_t visited = 0;
+    for (auto _ : state) {
+        double sum = 0;
+        visited = 0;
+        for (auto it = tree.cbeginValueOn(); it; ++it) {
+            sum += *it;
+            ++visited;
+        }
+        benchmark::DoNotOptimize(sum);
+    }
+    if (visited != inputs().band.size())
+        state.SkipWithError("value iterator missed voxels");
+    setOps(state, int64_t(visited));
+}
+
+template <typename Lib>
+void BM_LeafIteration(benchmark::State& state) {
+    const auto& shared = sharedTree<Lib>();
+    if (!shared.error.empty()) {
+        state.SkipWithError(shared.error.c_str());
+        return;
+    }
+    const auto& tree = *shared.tree;
+    uint64_t visited = 0;
+    for (auto _ : state) {
+        double sum = 0;
+        visited = 0;
+        for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+            for (auto bit = leaf->getValueMask().beginOn(); bit; ++bit) {
+                sum += leaf->getValue(bit.pos());
+                ++visited;
+            }
+        }
+        benchmark::DoNotOptimize(sum);
+    }
+    if (visited != inputs().band.size())
+        state.SkipWithError("leaf iteration missed voxels");
+    setOps(state, int64_t(visited));
+}
+
+template <typename Lib, bool Cached>
+void insertRandom(benchmark::State& state) {
+    using TreeT = typename Lib::TreeType;
+    const auto& band = inputs().band;
+    uint64_t count = 0;
+    for (auto _ : state) {
+        auto tree = std::make_unique<TreeT>(kBackground);
+        if constexpr (Cached) {
+            typename Lib::template Accessor<TreeT> acc(*tree);
+            for (const BandVoxel& v : band)
+                acc.setValue(coordOf<Lib>(v), v.value);
+        } else {
+            for (const BandVoxel& v : band)
+                tree->setValue(coordOf<Lib>(v), v.value);
+        }
+        state.PauseTiming();
+        count = tree->activeVoxelCount();
+        tree.reset();
+        state.ResumeTiming();
+    }
+    if (count != band.size())
+        state.SkipWithError("insertion lost voxels");
+    setOps(state, int64_t(band.size()));
+}
+
+template <typename Lib>
+void BM_RandomInsert(benchmark::State& state) {
+    insertRandom<Lib, true>(state);
+}
+
+template <typename Lib>
+void BM_RandomInsertTopDown(benchmark::State& state) {
+    insertRandom<Lib, false>(state);
+}
+
+// ---- Registration ----
+
+// Calls `fn(std::type_identity<Lib>{})` for every library, OpenVDB first.
+template <typename Fn>
+void forEachLibrary(Fn&& fn) {
+    fn(std::type_identity<OpenVdb>{});
+    fn(std::type_identity<OpenVdbTwin>{});
+    fn(std::type_identity<Vdb>{});
+    fn(std::type_identity<VdbFixed6543>{});
+    fn(std::type_identity<VdbMap543>{});
+}
+
+// Operation names in registration order; the summary lists its rows in this order.
+std::vector<std::string>& operationOrder() {
+    static std::vector<std::string> order;
+    return order;
+}
+
+template <typename Lib>
+benchmark::internal::Benchmark* add(const char* op, void (*fn)(benchmark::State&)) {
+    auto& order = operationOrder();
+    if (std::find(order.begin(), order.end(), op) == order.end())
+        order.push_back(op);
+    const std::string name = std::string(op) + "<" + Lib::kName + ">";
+    return benchmark::RegisterBenchmark(name.c_str(), fn)
+        ->Unit(benchmark::kMillisecond)
+        ->ComputeStatistics("min", [](const std::vector<double>& v) {
+            return *std::min_element(v.begin(), v.end());
+        });
+}
+
+// Registers each benchmark for all libraries in turn, so that the libraries' runs of one
+// operation are adjacent in the output.
+void registerBenchmarks() {
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_MemUsage", BM_MemUsage<Lib>)->Iterations(1)->Repetitions(1);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_CachedLookup", BM_CachedLookup<Lib>)
+            ->Args({kProbeCount, kTableTwoRunLength})
+            ->Args({kProbeCount, 1})
+            ->MinTime(0.2);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_TopDownLookup", BM_TopDownLookup<Lib>)
+            ->Args({kProbeCount, kTableTwoRunLength})
+            ->Args({kProbeCount, 1})
+            ->MinTime(0.2);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_CachedRandomLookup", BM_CachedRandomLookup<Lib>)->Arg(kLookups)->Iterations(1);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_TopDownRandomLookup", BM_TopDownRandomLookup<Lib>)
+            ->Arg(kLookups)
+            ->Iterations(1);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_ValueIteration", BM_ValueIteration<Lib>)->MinTime(0.2);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_LeafIteration", BM_LeafIteration<Lib>)->MinTime(0.2);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_RandomInsert", BM_RandomInsert<Lib>)->Iterations(1);
+    });
+    forEachLibrary([](auto lib) {
+        using Lib = typename decltype(lib)::type;
+        add<Lib>("BM_RandomInsertTopDown", BM_RandomInsertTopDown<Lib>)->Iterations(1);
+    });
+}
+
+// ---- Summary ----
+
+// One benchmark result kept for the summary, per iteration.
+struct Result {
+    double realNs = 0;
+    double cpuNs = 0;
+    benchmark::UserCounters counters;
+};
+
+// Displays like the console reporter and keeps, per statistic ("median", "min", or "run" for
+// a single repetition), "operation/args" and library, the result that the summary uses.
+class SummaryReporter : public benchmark::ConsoleReporter {
+public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        ConsoleReporter::ReportRuns(runs);
+        for (const Run& run : runs) {
+            if (run.error_occurred)
+                continue;
+            const bool single = run.run_type == Run::RT_Iteration && run.repetitions <= 1;
+            const bool kept = run.run_type == Run::RT_Aggregate &&
+                              (run.aggregate_name == "median" || run.aggregate_name == "min");
+            if (!single && !kept)
+                continue;
+            // Names look like "BM_CachedLookup<Vdb>" with args "100/1".
+            const std::string& fn = run.run_name.function_name;
+            const size_t open = fn.find('<');
+            if (open == std::string::npos || fn.back() != '>')
+                continue;
+            const std::string op =
+                fn.substr(0, open) + (run.run_name.args.empty() ? "" : "/" + run.run_name.args);
+            const std::string lib = fn.substr(open + 1, fn.size() - open - 2);
+            const double toNs = 1e9 / benchmark::GetTimeUnitMultiplier(run.time_unit);
+            Result& slot = mResults[single ? "run" : run.aggregate_name][op][lib];
+            slot.realNs = run.GetAdjustedRealTime() * toNs;
+            slot.cpuNs = run.GetAdjustedCPUTime() * toNs;
+            slot.counters = run.counters;
+            if (std::find(mRows.begin(), mRows.end(), op) == mRows.end())
+                mRows.push_back(op);
+        }
+    }
+
+    /// Prints, for the medians and then the minimums over repetitions, one row per operation:
+    /// OpenVDB's time, then each other library's time and its ratio to OpenVDB. Times are CPU
+    /// (thread) nanoseconds per operation: on a quiet machine the same as wall-clock time, on a
+    /// shared one without the time spent waiting for a CPU.
+    void printSummary() const {
+        // Rows in registration order (random interleaving reports them in any order).
+        std::vector<std::string> rows = mRows;
+        const auto& order = operationOrder();
+        auto rank = [&](const std::string& op) {
+            return std::find(order.begin(), order.end(), op.substr(0, op.find('/'))) -
+                   order.begin();
+        };
+        std::sort(rows.begin(), rows.end(), [&](const std::string& a, const std::string& b) {
+            return rank(a) != rank(b) ? rank(a) < rank(b) : a < b;
+        });
+
+        // Memory comes from single runs; times from the medians and the minimums.
+        const auto run = mResults.find("run");
+        for (const char* stat : {"median", "min"}) {
+            const auto found = mResults.find(stat);
+            if (found == mResults.end())
+                continue;
+            std::printf(
+                "\nSummary: %s over repetitions, CPU ns per operation, ratio = library / "
+                "OpenVdb\n",
+                stat);
+            const bool first = std::string(stat) == "median";
+            printTable(rows, found->second,
+                       first && run != mResults.end() ? &run->second : nullptr);
+        }
+        if (mResults.count("median") == 0 && run != mResults.end()) {
+            std::printf(
+                "\nSummary: single runs, CPU ns per operation, ratio = library / OpenVdb\n");
+            printTable(rows, run->second, &run->second);
+        }
+
+        double worstWait = 1.0;  // largest wall-clock / CPU time of any result
+        for (const auto& [stat, byOp] : mResults)
+            for (const auto& [op, byLib] : byOp)
+                for (const auto& [lib, r] : byLib)
+                    if (r.cpuNs > 0)
+                        worstWait = std::max(worstWait, r.realNs / r.cpuNs);
+        if (worstWait > 1.05) {
+            std::printf(
+                "Note: wall-clock time exceeded CPU time by up to %.0f%%: other processes "
+                "competed for the CPU and its caches; read the OpenVdbTwin column (the noise "
+                "floor) before the others.\n",
+                100.0 * (worstWait - 1.0));
+        }
+    }
+
+private:
+    using ByLib = std::map<std::string, Result>;
+    using ByOp = std::map<std::string, ByLib>;
+
+    // Prints the times of `times`, and the memory rows of `singles` unless it is null.
+    static void printTable(const std::vector<std::string>& rows, const ByOp& times,
+                           const ByOp* singles) {
+        std::vector<std::string> libs;
+        forEachLibrary([&](auto lib) { libs.push_back(decltype(lib)::type::kName); });
+        std::printf("%-40s %9s", "operation", libs[0].c_str());
+        for (size_t i = 1; i < libs.size(); ++i)
+            std::printf(" %12s %5s", libs[i].c_str(), "ratio");
+        std::printf("\n");
+        for (const std::string& op : rows) {
+            if (op.rfind("BM_MemUsage", 0) == 0) {
+                if (!singles || singles->count(op) == 0)
+                    continue;
+                printRow("memUsage (MB)", singles->at(op), libs,
+                         [](const Result& r) { return counter(r, "memUsage_MB"); });
+                printRow("RSS growth while building (MB)", singles->at(op), libs,
+                         [](const Result& r) { return counter(r, "rss_MB"); });
+                continue;
+            }
+            if (times.count(op) == 0)
+                continue;
+            printRow(op, times.at(op), libs, [](const Result& r) {
+                const double ops = counter(r, "ops");
+                return ops > 0 ? r.cpuNs / ops : -1.0;
+            });
+        }
+    }
+
+    static double counter(const Result& r, const char* name) {
+        const auto it = r.counters.find(name);
+        return it == r.counters.end() ? -1.0 : it->second.value;
+    }
+
+    template <typename Metric>
+    static void printRow(const std::string& label, const ByLib& byLib,
+                         const std::vector<std::string>& libs, Metric metric) {
+        std::vector<double> value;
+        for (const std::string& lib : libs) {
+            const auto it = byLib.find(lib);
+            value.push_back(it == byLib.end() ? -1.0 : metric(it->second));
+        }
+        std::printf("%-40s %9s", label.c_str(), format(value[0]).c_str());
+        for (size_t i = 1; i < libs.size(); ++i) {
+            const bool ratio = value[0] > 0 && value[i] >= 0;
+            std::printf(" %12s %5s", format(value[i]).c_str(),
+                        ratio ? format(value[i] / value[0], 2).c_str() : "-");
+        }
+        std::printf("\n");
+    }
+
+    static std::string format(double v, int decimals = 3) {
+        if (v < 0)
+            return "-";
+        char text[32];
+        std::snprintf(text, sizeof text, "%.*f", decimals, v);
+        return text;
+    }
+
+    std::map<std::string, ByOp> mResults;  // statistic -> operation -> library
+    std::vector<std::string> mRows;
+};
+
+template <typename Lib>
+void printTreeStats() {
+    if (!sharedTreeBuilt<Lib>)
+        return;
+    const auto& shared = sharedTree<Lib>();
+    const auto& tree = *shared.tree;
+    std::printf("%-13s %-13s leaves %7llu  internal %5llu  memUsage %8.2f MB  %6.2f B/voxel%s%s\n",
+                Lib::kName, Lib::kConfig, (unsigned long long)tree.leafCount(),
+                (unsigned long long)tree.nonLeafCount(), double(tree.memUsage()) / (1 << 20),
+                double(tree.memUsage()) / double(inputs().band.size()),
+                shared.error.empty() ? "" : "  ERROR: ", shared.error.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // Defaults: 5 repetitions, run in random order so that drifting machine load spreads over
+    // all libraries, with only their aggregates on screen. Flags given on the command line come
+    // later and win.
+    std::vector<char*> args(argv, argv + argc);
+    std::string repetitions = "--benchmark_repetitions=5";
+    std::string interleave = "--benchmark_enable_random_interleaving=true";
+    std::string aggregates = "--benchmark_display_aggregates_only=true";
+    args.insert(args.begin() + 1, {repetitions.data(), interleave.data(), aggregates.data()});
+    int count = int(args.size());
+    args.push_back(nullptr);
+    benchmark::Initialize(&count, args.data());
+    if (benchmark::ReportUnrecognizedArguments(count, args.data()))
+        return 1;
+
+    openvdb::initialize();
+    const auto& in = inputs();
+    std::printf("Enright sphere band at %d^3: %zu active voxels (paper: %llu)\n", kResolution,
+                in.band.size(), (unsigned long long)EnrightSphere::paperActiveVoxels(kResolution));
+    std::fflush(stdout);
+
+    registerBenchmarks();
+    SummaryReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    reporter.printSummary();
+    std::printf("\nTrees read by the lookup and iteration benchmarks:\n");
+    forEachLibrary([](auto lib) { printTreeStats<typename decltype(lib)::type>(); });
+    benchmark::Shutdown();
+    return 0;
+}
