@@ -612,10 +612,12 @@ private:
     std::vector<std::string> mRows;
 };
 
+// Prints the statistics of the shared tree of `Lib` if it was built; returns false when that
+// tree failed its check.
 template <typename Lib>
-void printTreeStats() {
+bool printTreeStats() {
     if (!sharedTreeBuilt<Lib>)
-        return;
+        return true;
     const auto& shared = sharedTree<Lib>();
     const auto& tree = *shared.tree;
     std::printf("%-13s %-13s leaves %7llu  internal %5llu  memUsage %8.2f MB  %6.2f B/voxel%s%s\n",
@@ -623,6 +625,7 @@ void printTreeStats() {
                 (unsigned long long)tree.nonLeafCount(), double(tree.memUsage()) / (1 << 20),
                 double(tree.memUsage()) / double(inputs().band.size()),
                 shared.error.empty() ? "" : "  ERROR: ", shared.error.c_str());
+    return shared.error.empty();
 }
 
 }  // namespace
@@ -653,7 +656,8 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks(&reporter);
     reporter.printSummary();
     std::printf("\nTrees read by the lookup and iteration benchmarks:\n");
-    forEachLibrary([](auto lib) { printTreeStats<typename decltype(lib)::type>(); });
+    bool ok = true;
+    forEachLibrary([&](auto lib) { ok &= printTreeStats<typename decltype(lib)::type>(); });
     benchmark::Shutdown();
-    return 0;
+    return ok ? 0 : 1;
 }

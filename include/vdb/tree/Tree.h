@@ -272,7 +272,7 @@ private:
 // ---- Implementation ---------------------------------------------------------------------------
 
 template <TopNodeType TopT>
-Tree<TopT>& Tree<TopT>::operator=(const Tree& other) {
+inline Tree<TopT>& Tree<TopT>::operator=(const Tree& other) {
     if (this != &other) {
         mTop = std::make_unique<TopT>(*other.mTop);
         mBackground = other.mBackground;
@@ -282,49 +282,49 @@ Tree<TopT>& Tree<TopT>::operator=(const Tree& other) {
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::setValueOn(const Coord& ijk, const ValueType& value) {
+inline void Tree<TopT>::setValueOn(const Coord& ijk, const ValueType& value) {
     modify(
         ijk, [&](const ValueType& tile, bool on) { return on && tile == value; },
         [&](LeafNodeType& leaf, Index n) { leaf.setValueOn(n, value); });
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::setValueOn(const Coord& ijk) {
+inline void Tree<TopT>::setValueOn(const Coord& ijk) {
     modify(
         ijk, [](const ValueType&, bool on) { return on; },
         [](LeafNodeType& leaf, Index n) { leaf.setValueOn(n); });
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::setValueOff(const Coord& ijk, const ValueType& value) {
+inline void Tree<TopT>::setValueOff(const Coord& ijk, const ValueType& value) {
     modify(
         ijk, [&](const ValueType& tile, bool on) { return !on && tile == value; },
         [&](LeafNodeType& leaf, Index n) { leaf.setValueOff(n, value); });
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::setValueOff(const Coord& ijk) {
+inline void Tree<TopT>::setValueOff(const Coord& ijk) {
     modify(
         ijk, [](const ValueType&, bool on) { return !on; },
         [](LeafNodeType& leaf, Index n) { leaf.setValueOff(n); });
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::setValueOnly(const Coord& ijk, const ValueType& value) {
+inline void Tree<TopT>::setValueOnly(const Coord& ijk, const ValueType& value) {
     modify(
         ijk, [&](const ValueType& tile, bool) { return tile == value; },
         [&](LeafNodeType& leaf, Index n) { leaf.setValueOnly(n, value); });
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::setActiveState(const Coord& ijk, bool on) {
+inline void Tree<TopT>::setActiveState(const Coord& ijk, bool on) {
     modify(
         ijk, [on](const ValueType&, bool tileOn) { return tileOn == on; },
         [on](LeafNodeType& leaf, Index n) { leaf.setActiveState(n, on); });
 }
 
 template <TopNodeType TopT>
-auto Tree<TopT>::touchLeaf(const Coord& ijk) -> LeafNodeType* {
+inline auto Tree<TopT>::touchLeaf(const Coord& ijk) -> LeafNodeType* {
     LeafNodeType* result = nullptr;
     modify(
         ijk, [](const ValueType&, bool) { return false; },
@@ -333,7 +333,7 @@ auto Tree<TopT>::touchLeaf(const Coord& ijk) -> LeafNodeType* {
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::eraseValue(const Coord& ijk) {
+inline void Tree<TopT>::eraseValue(const Coord& ijk) {
     if (!inDomain(ijk))
         return;
     bool deleted = false;
@@ -347,7 +347,7 @@ void Tree<TopT>::eraseValue(const Coord& ijk) {
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::fill(const CoordBBox& bbox, const ValueType& value, bool active) {
+inline void Tree<TopT>::fill(const CoordBBox& bbox, const ValueType& value, bool active) {
     if (bbox.empty())
         return;
     if (!domain().isInside(bbox)) {
@@ -362,13 +362,13 @@ void Tree<TopT>::fill(const CoordBBox& bbox, const ValueType& value, bool active
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::prune(const ValueType& tolerance) {
+inline void Tree<TopT>::prune(const ValueType& tolerance) {
     if (mTop->prune(tolerance))
         clearAllAccessors();
 }
 
 template <TopNodeType TopT>
-void Tree<TopT>::clear() {
+inline void Tree<TopT>::clear() {
     if constexpr (BOUNDED) {
         mTop = makeTop(mBackground);
     } else {
@@ -378,7 +378,7 @@ void Tree<TopT>::clear() {
 }
 
 template <TopNodeType TopT>
-bool Tree<TopT>::empty() const {
+inline bool Tree<TopT>::empty() const {
     if constexpr (BOUNDED) {
         return mTop->getChildMask().isOff() && mTop->getValueMask().isOff();
     } else {

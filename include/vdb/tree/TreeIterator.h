@@ -123,6 +123,16 @@ public:
         }
     }
     const TopPos& topPos() const { return mTopPos; }
+    /// The root entry at the current top position; a template so that it is only
+    /// instantiated for trees whose top is a root.
+    template <Index L>
+    auto& topEntry() const {
+        return top()->entry(mTopPos);
+    }
+    template <Index L>
+    Coord topKey() const {
+        return top()->key(mTopPos);
+    }
 
 private:
     static constexpr bool tileMatches(bool active) {
@@ -321,7 +331,7 @@ public:
             if constexpr (L == 0) {
                 return mWalk.template node<0>()->getValue(mWalk.template pos<0>());
             } else if constexpr (L == TOP && Walk::ROOT_TOP) {
-                return mWalk.top()->entry(mWalk.topPos()).tile;
+                return mWalk.template topEntry<L>().tile;
             } else {
                 return mWalk.template node<L>()->getTileValue(mWalk.template pos<L>());
             }
@@ -340,7 +350,7 @@ public:
                 if constexpr (L == 0) {
                     return mWalk.template node<0>()->isValueOn(mWalk.template pos<0>());
                 } else if constexpr (L == TOP && Walk::ROOT_TOP) {
-                    return mWalk.top()->entry(mWalk.topPos()).active;
+                    return mWalk.template topEntry<L>().active;
                 } else {
                     return mWalk.template node<L>()->isTileOn(mWalk.template pos<L>());
                 }
@@ -353,7 +363,7 @@ public:
         return mWalk.dispatch([&](auto level) -> Coord {
             constexpr Index L = decltype(level)::value;
             if constexpr (L == TOP && Walk::ROOT_TOP) {
-                return mWalk.top()->key(mWalk.topPos());
+                return mWalk.template topKey<L>();
             } else {
                 return mWalk.template node<L>()->offsetToGlobalCoord(mWalk.template pos<L>());
             }
@@ -381,7 +391,7 @@ public:
             if constexpr (L == 0) {
                 mWalk.template node<0>()->setValueOnly(mWalk.template pos<0>(), value);
             } else if constexpr (L == TOP && Walk::ROOT_TOP) {
-                mWalk.top()->entry(mWalk.topPos()).tile = value;
+                mWalk.template topEntry<L>().tile = value;
             } else {
                 mWalk.template node<L>()->setTileValueOnly(mWalk.template pos<L>(), value);
             }

@@ -179,7 +179,7 @@ private:
     }
 
     template <Index L>
-    [[gnu::noinline]] ValueType getValueAt(const Coord& ijk) const requires(L == 1) {
+    [[gnu::noinline, gnu::flatten]] ValueType getValueAt(Coord ijk) const requires(L == 1) {
         return getValueFrom<L>(ijk);
     }
     template <Index L>
@@ -199,7 +199,7 @@ private:
         }
     }
     template <Index L>
-    [[gnu::noinline]] bool isValueOnAt(const Coord& ijk) const requires(L == 1) {
+    [[gnu::noinline, gnu::flatten]] bool isValueOnAt(Coord ijk) const requires(L == 1) {
         return isValueOnFrom<L>(ijk);
     }
     template <Index L>
