@@ -110,8 +110,9 @@ public:
     const Coord& origin() const { return mOrigin; }
     CoordBBox getNodeBoundingBox() const { return CoordBBox::createCube(mOrigin, Int32(DIM)); }
     bool contains(const Coord& ijk) const {
-        return uint32_t(ijk[0] - mOrigin[0]) < DIM && uint32_t(ijk[1] - mOrigin[1]) < DIM &&
-               uint32_t(ijk[2] - mOrigin[2]) < DIM;
+        return uint32_t(ijk[0]) - uint32_t(mOrigin[0]) < DIM &&
+               uint32_t(ijk[1]) - uint32_t(mOrigin[1]) < DIM &&
+               uint32_t(ijk[2]) - uint32_t(mOrigin[2]) < DIM;
     }
     /// Maps a global coordinate to the table offset of the child region holding it.
     static Index coordToOffset(const Coord& ijk) {
@@ -431,8 +432,8 @@ void InternalNode<ChildT, Log2Dim>::fill(const CoordBBox& bbox, const ValueType&
     // computed from its global origin.)
     Index lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-        lo[a] = uint32_t(clip.min()[a] - mOrigin[a]) >> ChildT::TOTAL;
-        hi[a] = uint32_t(clip.max()[a] - mOrigin[a]) >> ChildT::TOTAL;
+        lo[a] = (uint32_t(clip.min()[a]) - uint32_t(mOrigin[a])) >> ChildT::TOTAL;
+        hi[a] = (uint32_t(clip.max()[a]) - uint32_t(mOrigin[a])) >> ChildT::TOTAL;
     }
     for (Index i = lo[0]; i <= hi[0]; ++i) {
         for (Index j = lo[1]; j <= hi[1]; ++j) {
@@ -546,18 +547,18 @@ void InternalNode<ChildT, Log2Dim>::clear(const ValueType& value) {
 
 template <typename ChildT, Index Log2Dim>
 Index64 InternalNode<ChildT, Log2Dim>::onVoxelCount() const {
-    Index64 sum = Index64(mValueMask.countOn()) * ChildT::NUM_VOXELS;
+    Index64 sum = detail::saturatingMul(mValueMask.countOn(), ChildT::NUM_VOXELS);
     for (Index n : mChildMask.onBits())
-        sum += mTable[n].child->onVoxelCount();
+        sum = detail::saturatingAdd(sum, mTable[n].child->onVoxelCount());
     return sum;
 }
 
 template <typename ChildT, Index Log2Dim>
 Index64 InternalNode<ChildT, Log2Dim>::offVoxelCount() const {
     const Index tilesOff = NUM_VALUES - mValueMask.countOn() - mChildMask.countOn();
-    Index64 sum = Index64(tilesOff) * ChildT::NUM_VOXELS;
+    Index64 sum = detail::saturatingMul(tilesOff, ChildT::NUM_VOXELS);
     for (Index n : mChildMask.onBits())
-        sum += mTable[n].child->offVoxelCount();
+        sum = detail::saturatingAdd(sum, mTable[n].child->offVoxelCount());
     return sum;
 }
 

@@ -84,10 +84,12 @@ public:
         clip.intersect(bbox);
         if (clip.empty())
             return;
-        for (Int32 i = clip.min()[0]; i <= clip.max()[0]; ++i)
-            for (Int32 j = clip.min()[1]; j <= clip.max()[1]; ++j)
-                for (Int32 k = clip.min()[2]; k <= clip.max()[2]; ++k) {
-                    const Index n = coordToOffset(Coord(i, j, k));
+        // Loop over local offsets: global coordinates may end at INT32_MAX.
+        const Coord lo = clip.min() - mOrigin, hi = clip.max() - mOrigin;
+        for (Int32 i = lo[0]; i <= hi[0]; ++i)
+            for (Int32 j = lo[1]; j <= hi[1]; ++j)
+                for (Int32 k = lo[2]; k <= hi[2]; ++k) {
+                    const Index n = (Index(i) << (2 * Log2Dim)) | (Index(j) << Log2Dim) | Index(k);
                     mBuffer.set(n, value);
                     mValueMask.set(n, active);
                 }

@@ -46,6 +46,17 @@ constexpr bool isApproxEqual(const ValueT& a, const ValueT& b, const ValueT& tol
     }
 }
 
+/// Voxel counts saturate at 2^64 - 1 instead of wrapping (a bounded [7,6,5,4,3] domain holds
+/// 2^75 voxels).
+constexpr Index64 saturatingAdd(Index64 a, Index64 b) {
+    const Index64 s = a + b;
+    return s < a ? ~Index64(0) : s;
+}
+constexpr Index64 saturatingMul(Index64 a, Index64 b) {
+    Index64 p = 0;
+    return __builtin_mul_overflow(a, b, &p) ? ~Index64(0) : p;
+}
+
 /// True when every byte of `value` is zero, so zero-filled memory already holds it.
 template <typename ValueT>
 bool isZeroBits(const ValueT& value) {

@@ -360,9 +360,9 @@ Index64 RootNode<ChildT, TableT>::onVoxelCount() const {
     for (auto c = cbegin(); valid(c); next(c)) {
         const Entry& e = entry(c);
         if (e.child) {
-            sum += e.child->onVoxelCount();
+            sum = detail::saturatingAdd(sum, e.child->onVoxelCount());
         } else if (e.active) {
-            sum += ChildT::NUM_VOXELS;
+            sum = detail::saturatingAdd(sum, ChildT::NUM_VOXELS);
         }
     }
     return sum;
@@ -374,9 +374,9 @@ Index64 RootNode<ChildT, TableT>::offVoxelCount() const {
     for (auto c = cbegin(); valid(c); next(c)) {
         const Entry& e = entry(c);
         if (e.child) {
-            sum += e.child->offVoxelCount();
+            sum = detail::saturatingAdd(sum, e.child->offVoxelCount());
         } else if (!e.active && !(e.tile == mBackground)) {
-            sum += ChildT::NUM_VOXELS;
+            sum = detail::saturatingAdd(sum, ChildT::NUM_VOXELS);
         }
     }
     return sum;

@@ -165,7 +165,8 @@ public:
     void prune(const ValueType& tolerance = ValueType{});
     /// Frees every node: the tree holds only the background.
     void clear();
-    /// True when the tree stores nothing but the background.
+    /// True when the tree stores nothing but the background. For a bounded tree this reads the
+    /// top node's whole table when it has no child and no active tile.
     bool empty() const;
 
     // ---- Leaves
@@ -348,6 +349,13 @@ inline void Tree<TopT>::eraseValue(const Coord& ijk) {
 
 template <TopNodeType TopT>
 inline void Tree<TopT>::fill(const CoordBBox& bbox, const ValueType& value, bool active) {
+    if constexpr (std::is_same_v<BuildType, ValueMask>) {
+        // In a mask tree a voxel's value is its state; tiles keep the two equal too.
+        if (value != active) {
+            fill(bbox, true, true);
+            return;
+        }
+    }
     if (bbox.empty())
         return;
     if (!domain().isInside(bbox)) {
@@ -380,7 +388,7 @@ inline void Tree<TopT>::clear() {
 template <TopNodeType TopT>
 inline bool Tree<TopT>::empty() const {
     if constexpr (BOUNDED) {
-        return mTop->getChildMask().isOff() && mTop->getValueMask().isOff();
+        return mTop->isBackground(mBackground);
     } else {
         return mTop->empty();
     }

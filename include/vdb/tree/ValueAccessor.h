@@ -159,15 +159,17 @@ private:
         clear();
         mEpoch = mTree->epoch();
     }
-    // True when `ijk` lies in the cached node of level L: the bits above the node's size
-    // equal the key's (whose bits below it are zero).
+    // True when `ijk` lies in the cached node of level L: its coordinates with the bits below
+    // the node's size cleared equal the key. An empty slot's key has low bits set, so it
+    // matches no coordinate. One branch for the three components.
     template <Index L>
     bool hit(const Coord& ijk) const {
         constexpr uint32_t high = ~((uint32_t(1) << NodeAtLevelT<TopT, L>::TOTAL) - 1);
         const Coord& key = mKeys[L];
-        return ((uint32_t(ijk[0] ^ key[0]) | uint32_t(ijk[1] ^ key[1]) |
-                 uint32_t(ijk[2] ^ key[2])) &
-                high) == 0;
+        const uint32_t dx = (uint32_t(ijk[0]) & high) ^ uint32_t(key[0]);
+        const uint32_t dy = (uint32_t(ijk[1]) & high) ^ uint32_t(key[1]);
+        const uint32_t dz = (uint32_t(ijk[2]) & high) ^ uint32_t(key[2]);
+        return (dx | dy | dz) == 0;
     }
     template <Index L>
     bool isCachedAt(const Coord& ijk) const {
