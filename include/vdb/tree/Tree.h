@@ -26,6 +26,7 @@
 #include <memory>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 
 namespace vdb::tree {
 
@@ -95,6 +96,21 @@ public:
         : mTop(makeTop(background)), mBackground(background) {}
     Tree(const Tree& other) : mTop(new TopT(*other.mTop)), mBackground(other.mBackground) {}
     Tree& operator=(const Tree& other);
+    /// Takes `other`'s nodes without copying; `other` is left empty with its background.
+    Tree(Tree&& other)
+        : mTop(std::exchange(other.mTop, makeTop(other.mBackground))),
+          mBackground(other.mBackground) {
+        other.clearAllAccessors();
+    }
+    Tree& operator=(Tree&& other) {
+        if (this != &other) {
+            mTop = std::exchange(other.mTop, makeTop(other.mBackground));
+            mBackground = other.mBackground;
+            clearAllAccessors();
+            other.clearAllAccessors();
+        }
+        return *this;
+    }
     ~Tree() = default;
 
     /// The index-space region the tree can store: the whole 32-bit space for a root top, else
