@@ -9,7 +9,7 @@
 #include <Oracles.h>
 #include <gtest/gtest.h>
 
-#include <algorithm>
+#include <cstdint>
 #include <set>
 #include <tuple>
 #include <unordered_set>

@@ -11,9 +11,9 @@
 #include <Oracles.h>
 #include <gtest/gtest.h>
 
-#include <cstdint>
+#include <algorithm>
 #include <limits>
-#include <string>
+#include <type_traits>
 #include <vector>
 
 namespace vdb {
