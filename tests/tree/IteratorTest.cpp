@@ -7,6 +7,7 @@
 #include <vdb/tree/ValueAccessor.h>
 
 #include <Oracles.h>
+#include <TableTwoConfigs.h>
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -18,21 +19,7 @@
 namespace vdb {
 namespace {
 
-struct HashTree543 : test::TreeConfig<tree::HashTree543<float>, false, 5, 4, 3> {
-    static constexpr const char* NAME = "HashTree543";
-};
-struct MapTree432 : test::TreeConfig<tree::MapTree432<float>, false, 4, 3, 2> {
-    static constexpr const char* NAME = "MapTree432";
-};
-struct FixedTree643 : test::TreeConfig<tree::FixedTree643<float>, true, 6, 4, 3> {
-    static constexpr const char* NAME = "FixedTree643";
-};
-struct FixedTree6542 : test::TreeConfig<tree::FixedTree6542<float>, true, 6, 5, 4, 2> {
-    static constexpr const char* NAME = "FixedTree6542";
-};
-struct FixedTree3333 : test::TreeConfig<tree::FixedTree3333<float>, true, 3, 3, 3, 3> {
-    static constexpr const char* NAME = "FixedTree3333";
-};
+using namespace test::configs;
 
 template <typename C>
 class TreeIterator : public ::testing::Test {

@@ -11,6 +11,7 @@
 #include <vdb/tree/ValueAccessor.h>
 
 #include <Oracles.h>
+#include <TableTwoConfigs.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,6 +27,8 @@
 
 namespace vdb {
 namespace {
+
+using namespace test::configs;
 
 using Leaf8 = tree::LeafNode<float, 3>;
 using Node16 = tree::InternalNode<Leaf8, 4>;  // 16^3 children of 8^3 voxels: 128^3 voxels
@@ -261,22 +264,6 @@ TYPED_TEST(RootTableTyped, RootNodeEntriesFollowTilesAndChildren) {
 }
 
 // ---- Tree statistics --------------------------------------------------------------------------
-
-struct HashTree543 : test::TreeConfig<tree::HashTree543<float>, false, 5, 4, 3> {
-    static constexpr const char* NAME = "HashTree543";
-};
-struct MapTree432 : test::TreeConfig<tree::MapTree432<float>, false, 4, 3, 2> {
-    static constexpr const char* NAME = "MapTree432";
-};
-struct FixedTree643 : test::TreeConfig<tree::FixedTree643<float>, true, 6, 4, 3> {
-    static constexpr const char* NAME = "FixedTree643";
-};
-struct FixedTree6545 : test::TreeConfig<tree::FixedTree6545<float>, true, 6, 5, 4, 5> {
-    static constexpr const char* NAME = "FixedTree6545";
-};
-struct FixedTree3333 : test::TreeConfig<tree::FixedTree3333<float>, true, 3, 3, 3, 3> {
-    static constexpr const char* NAME = "FixedTree3333";
-};
 
 template <typename C>
 class TreeStatistics : public ::testing::Test {};
