@@ -208,6 +208,16 @@ public:
     }
     /// Makes entry `n` a tile, deleting any child there.
     void setTile(Index n, const ValueType& value, bool active);
+    /// Sets the active states of the tiles a mask word at a time: word w of the value mask
+    /// becomes `op(w, word)`, with the bits at children cleared (a child's bit stays off).
+    /// Values are kept. O(NUM_VALUES / 64).
+    template <typename WordOpT>
+    void updateTileStates(const WordOpT& op) {
+        for (Index w = 0; w < MaskType::WORD_COUNT; ++w) {
+            auto& word = mValueMask.getWord(w);
+            word = op(w, word) & ~mChildMask.getWord(w);
+        }
+    }
     /// Makes entry `n` the child `child` (taking ownership), deleting any child there.
     void setChild(Index n, ChildT* child);
     /// Releases the child at `n` to the caller and leaves a tile in its place. @pre isChild(n)

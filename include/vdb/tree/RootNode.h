@@ -53,6 +53,9 @@ public:
     ~RootNode() { clear(); }
 
     const ValueType& background() const { return mBackground; }
+    /// Replaces the value of the regions without an entry. Stored tiles and nodes keep their
+    /// values, so tiles equal to the old background stop reading as background.
+    void setBackground(const ValueType& value) { mBackground = value; }
     /// Returns the key (child origin) of the entry whose region holds `ijk`.
     static Coord coordToKey(const Coord& ijk) { return ijk.alignedDown(ChildT::TOTAL); }
     static constexpr bool contains(const Coord&) { return true; }
@@ -104,6 +107,15 @@ public:
     void setChild(ChildT* child);
     /// Releases the child of the region of `ijk` (null if none) and removes the entry.
     ChildT* stealChild(const Coord& ijk);
+    /// Removes the entry of the region of `ijk`, deleting any child there; the region then reads
+    /// as the background, inactive.
+    void eraseEntry(const Coord& ijk) {
+        const Coord key = coordToKey(ijk);
+        if (Entry* e = mTable.find(key)) {
+            delete e->child;
+            mTable.erase(key);
+        }
+    }
     /// The entry keys in (x, y, z) order.
     std::vector<Coord> sortedKeys() const;
 

@@ -21,6 +21,7 @@
 #include <vdb/tree/LeafNode.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/RootNode.h>
+#include <vdb/tree/TopologyOps.h>
 
 #include <atomic>
 #include <memory>
@@ -133,6 +134,14 @@ public:
     }
 
     const ValueType& background() const { return mBackground; }
+    /// Replaces the background without touching any stored value: regions without a node or tile
+    /// (and, in a bounded tree, reads outside the domain) return `value` from now on, while
+    /// tiles and voxels that hold the old background keep it.
+    void setBackground(const ValueType& value) {
+        mBackground = value;
+        if constexpr (!BOUNDED)
+            mTop->setBackground(value);
+    }
     TopT& topNode() { return *mTop; }
     const TopT& topNode() const { return *mTop; }
     TopT& root() { return *mTop; }
@@ -184,6 +193,23 @@ public:
     /// True when the tree stores nothing but the background. For a bounded tree this reads the
     /// top node's whole table when it has no child and no active tile.
     bool empty() const;
+
+    // ---- Topology booleans (paper 4.4); `other` may hold another value type but must have the
+    // same node layout. Whole nodes are handled by mask operations, never voxel by voxel.
+    /// Activates every value that is active in `other`. Values keep their value; regions this
+    /// tree did not store get the background (or the value of the tile they fall in). An active
+    /// tile of this tree over a child of `other` becomes an active child of that topology unless
+    /// `preserveTiles`, which keeps the tile. O(nodes of both trees where they overlap).
+    template <typename OtherTreeT>
+    void topologyUnion(const OtherTreeT& other, bool preserveTiles = false);
+    /// Deactivates every value that is inactive in `other`; a branch under an inactive tile of
+    /// `other` is freed. Follow with prune() to drop leaves left with no active value.
+    template <typename OtherTreeT>
+    void topologyIntersection(const OtherTreeT& other);
+    /// Deactivates every value that is active in `other`; a branch under an active tile of
+    /// `other` is freed. Follow with prune() to drop leaves left with no active value.
+    template <typename OtherTreeT>
+    void topologyDifference(const OtherTreeT& other);
 
     // ---- Leaves
     LeafNodeType* probeLeaf(const Coord& ijk) {
@@ -389,6 +415,52 @@ template <TopNodeType TopT>
 inline void Tree<TopT>::prune(const ValueType& tolerance) {
     if (mTop->prune(tolerance))
         clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+template <typename OtherTreeT>
+inline void Tree<TopT>::topologyUnion(const OtherTreeT& other, bool preserveTiles) {
+    using OtherTopT = typename OtherTreeT::TopNodeType;
+    static_assert(detail::sameNodeLayout<TopT, OtherTopT>(),
+                  "topologyUnion needs two trees with the same levels and node sizes");
+    if constexpr (std::is_same_v<OtherTreeT, Tree>) {
+        if (&other == this)
+            return;
+    }
+    detail::topTopologyUnion(*mTop, other.topNode(), mBackground, preserveTiles);
+    clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+template <typename OtherTreeT>
+inline void Tree<TopT>::topologyIntersection(const OtherTreeT& other) {
+    using OtherTopT = typename OtherTreeT::TopNodeType;
+    static_assert(detail::sameNodeLayout<TopT, OtherTopT>(),
+                  "topologyIntersection needs two trees with the same levels and node sizes");
+    if constexpr (std::is_same_v<OtherTreeT, Tree>) {
+        if (&other == this)
+            return;
+    }
+    detail::topTopologyIntersection(*mTop, other.topNode(), mBackground);
+    clearAllAccessors();
+}
+
+template <TopNodeType TopT>
+template <typename OtherTreeT>
+inline void Tree<TopT>::topologyDifference(const OtherTreeT& other) {
+    using OtherTopT = typename OtherTreeT::TopNodeType;
+    static_assert(detail::sameNodeLayout<TopT, OtherTopT>(),
+                  "topologyDifference needs two trees with the same levels and node sizes");
+    if constexpr (std::is_same_v<OtherTreeT, Tree>) {
+        if (&other == this) {
+            // The walk reads `other` while it frees nodes of this tree: work from a copy.
+            const Tree copy(other);
+            topologyDifference(copy);
+            return;
+        }
+    }
+    detail::topTopologyDifference(*mTop, other.topNode(), mBackground);
+    clearAllAccessors();
 }
 
 template <TopNodeType TopT>

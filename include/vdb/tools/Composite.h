@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// CSG union, intersection and difference of narrow-band level sets (paper section 4.3).
+///
+/// Both inputs must be level sets of the same tree type: signed distances, negative inside, with
+/// a positive background (the outside value). The operations work on whole branches: where one
+/// tree has a tile and the other a child, the tile decides the whole region (an inside tile of
+/// a union keeps its tile and drops the other branch; an outside tile gives way, and the other
+/// tree's branch is moved over without touching its voxels). Only leaves present in both trees
+/// are combined voxel by voxel: min(a, b) for a union, max(a, b) for an intersection and
+/// max(a, -b) for a difference a - b, each voxel taking the active state of the input its value
+/// came from (a on ties). The results equal OpenVDB 10's csgUnion / csgIntersection /
+/// csgDifference value for value, tile for tile.
+///
+/// The in-place forms leave the result in `a` and `b` empty: b's branches are stolen, never
+/// copied. The Copy forms leave both inputs intact and return a new grid or tree equal to what
+/// the in-place form (with pruning) would leave in `a`; b's branches are then deep-copied.
+/// (OpenVDB's csg*Copy builds its result another way, from the leaves and a signed flood fill,
+/// so its tiles and inactive values can differ from its in-place result; ours do not.)
+/// OpenVDB's optional pruneCancelledTiles argument is not offered; `threaded` is ours.
+///
+/// Backgrounds: each input's background must be positive, else ValueError is thrown. When they
+/// differ, the result keeps a's background, and a branch moved over from b has its inactive
+/// values equal to +-b's background (within 1e-8 for float) replaced by +-a's, as OpenVDB does.
+///
+/// Cost: one serial walk over the internal nodes where the trees overlap, then the overlapping
+/// leaves (and, for a difference, the negated moved leaves) in parallel, then
+/// pruneLevelSet(). Results do not depend on the thread count.
+///
+/// @code
+/// vdb::tools::csgUnion(*sphereA, *sphereB);                        // A = A u B, B emptied
+/// auto cut = vdb::tools::csgDifferenceCopy(*sphereA, *sphereB);     // new grid A - B
+/// vdb::tools::csgIntersection(treeA, treeB, /*prune=*/false);       // trees work too
+/// @endcode
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Grid.h>
+#include <vdb/tools/Prune.h>
+#include <vdb/tools/detail/CompositeImpl.h>
+#include <vdb/tree/Tree.h>
+
+#include <memory>
+#include <type_traits>
+
+namespace vdb::tools {
+
+/// True for trees that can hold a level set: a tree type with floating-point values.
+template <typename TreeT>
+concept LevelSetTreeType = tree::TopNodeType<typename TreeT::TopNodeType> &&
+    std::is_floating_point_v<typename TreeT::ValueType>;
+
+// ---- In place: the result goes to `a`, `b` is left empty
+
+/// Replaces level set `a` with the union of `a` and `b` and empties `b`. With `prune`, the
+/// result is pruned with pruneLevelSet(). @throw ValueError when a background is not positive
+/// or `a` and `b` are the same tree.
+template <LevelSetTreeType TreeT>
+void csgUnion(TreeT& a, TreeT& b, bool prune = true, bool threaded = true);
+/// Replaces level set `a` with the intersection of `a` and `b` and empties `b`.
+template <LevelSetTreeType TreeT>
+void csgIntersection(TreeT& a, TreeT& b, bool prune = true, bool threaded = true);
+/// Replaces level set `a` with the difference `a` - `b` and empties `b`.
+template <LevelSetTreeType TreeT>
+void csgDifference(TreeT& a, TreeT& b, bool prune = true, bool threaded = true);
+
+/// The grid forms operate on the grids' trees; transforms and metadata are not changed.
+template <LevelSetTreeType TreeT>
+void csgUnion(Grid<TreeT>& a, Grid<TreeT>& b, bool prune = true, bool threaded = true);
+template <LevelSetTreeType TreeT>
+void csgIntersection(Grid<TreeT>& a, Grid<TreeT>& b, bool prune = true, bool threaded = true);
+template <LevelSetTreeType TreeT>
+void csgDifference(Grid<TreeT>& a, Grid<TreeT>& b, bool prune = true, bool threaded = true);
+
+// ---- Copies: both inputs are left intact
+
+/// Returns a new tree holding the union of level sets `a` and `b` (pruned), with a's
+/// background.
+template <LevelSetTreeType TreeT>
+std::unique_ptr<TreeT> csgUnionCopy(const TreeT& a, const TreeT& b, bool threaded = true);
+template <LevelSetTreeType TreeT>
+std::unique_ptr<TreeT> csgIntersectionCopy(const TreeT& a, const TreeT& b, bool threaded = true);
+template <LevelSetTreeType TreeT>
+std::unique_ptr<TreeT> csgDifferenceCopy(const TreeT& a, const TreeT& b, bool threaded = true);
+
+/// Returns a new grid holding the result, with copies of a's transform and metadata.
+template <LevelSetTreeType TreeT>
+typename Grid<TreeT>::Ptr csgUnionCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
+                                       bool threaded = true);
+template <LevelSetTreeType TreeT>
+typename Grid<TreeT>::Ptr csgIntersectionCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
+                                              bool threaded = true);
+template <LevelSetTreeType TreeT>
+typename Grid<TreeT>::Ptr csgDifferenceCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
+                                            bool threaded = true);
+
+// ---- Implementation ---------------------------------------------------------------------------
+
+namespace detail {
+
+/// The CSG entry points for one tree type, as one class so that the standard trees are
+/// instantiated once (src/instantiate/Composite.cpp) rather than in every user's translation
+/// unit. The kind of operation is a run-time argument.
+template <typename TreeT>
+struct CsgRunner {
+    /// Merges `b` into `a`, clears `b`, then prunes `a` if asked.
+    static void inPlace(CsgKind kind, TreeT& a, TreeT& b, bool prune, bool threaded);
+    /// Merges a copy of `b`'s branches into `result` (a copy of A), then prunes it.
+    static void intoCopy(CsgKind kind, TreeT& result, const TreeT& b, bool threaded);
+};
+
+constexpr const char* csgName(CsgKind kind) {
+    return kind == CsgKind::Union          ? "csgUnion"
+           : kind == CsgKind::Intersection ? "csgIntersection"
+                                           : "csgDifference";
+}
+
+template <typename TreeT>
+void CsgRunner<TreeT>::inPlace(CsgKind kind, TreeT& a, TreeT& b, bool prune, bool threaded) {
+    validateLevelSetBackground(a.background(), csgName(kind), "A");
+    validateLevelSetBackground(b.background(), csgName(kind), "B");
+    if (&a == &b)
+        throw ValueError(std::string(csgName(kind)) + ": A and B must be different trees");
+    switch (kind) {
+        case CsgKind::Union:
+            CsgMerge<TreeT, CsgKind::Union, /*Steal=*/true>(a, b).run(threaded);
+            break;
+        case CsgKind::Intersection:
+            CsgMerge<TreeT, CsgKind::Intersection, true>(a, b).run(threaded);
+            break;
+        case CsgKind::Difference:
+            CsgMerge<TreeT, CsgKind::Difference, true>(a, b).run(threaded);
+            break;
+    }
+    b.clear();
+    if (prune)
+        tools::pruneLevelSet(a, threaded);
+}
+
+template <typename TreeT>
+void CsgRunner<TreeT>::intoCopy(CsgKind kind, TreeT& result, const TreeT& b, bool threaded) {
+    validateLevelSetBackground(result.background(), csgName(kind), "A");
+    validateLevelSetBackground(b.background(), csgName(kind), "B");
+    switch (kind) {
+        case CsgKind::Union:
+            CsgMerge<TreeT, CsgKind::Union, /*Steal=*/false>(result, b).run(threaded);
+            break;
+        case CsgKind::Intersection:
+            CsgMerge<TreeT, CsgKind::Intersection, false>(result, b).run(threaded);
+            break;
+        case CsgKind::Difference:
+            CsgMerge<TreeT, CsgKind::Difference, false>(result, b).run(threaded);
+            break;
+    }
+    tools::pruneLevelSet(result, threaded);
+}
+
+template <typename TreeT>
+std::unique_ptr<TreeT> csgTreeCopy(CsgKind kind, const TreeT& a, const TreeT& b, bool threaded) {
+    validateLevelSetBackground(a.background(), csgName(kind), "A");
+    auto result = std::make_unique<TreeT>(a);
+    CsgRunner<TreeT>::intoCopy(kind, *result, b, threaded);
+    return result;
+}
+
+template <typename TreeT>
+typename Grid<TreeT>::Ptr csgGridCopy(CsgKind kind, const Grid<TreeT>& a, const Grid<TreeT>& b,
+                                      bool threaded) {
+    validateLevelSetBackground(a.background(), csgName(kind), "A");
+    typename Grid<TreeT>::Ptr result = a.deepCopy();
+    CsgRunner<TreeT>::intoCopy(kind, result->tree(), b.tree(), threaded);
+    return result;
+}
+
+}  // namespace detail
+
+template <LevelSetTreeType TreeT>
+void csgUnion(TreeT& a, TreeT& b, bool prune, bool threaded) {
+    detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Union, a, b, prune, threaded);
+}
+template <LevelSetTreeType TreeT>
+void csgIntersection(TreeT& a, TreeT& b, bool prune, bool threaded) {
+    detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Intersection, a, b, prune, threaded);
+}
+template <LevelSetTreeType TreeT>
+void csgDifference(TreeT& a, TreeT& b, bool prune, bool threaded) {
+    detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Difference, a, b, prune, threaded);
+}
+
+template <LevelSetTreeType TreeT>
+void csgUnion(Grid<TreeT>& a, Grid<TreeT>& b, bool prune, bool threaded) {
+    detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Union, a.tree(), b.tree(), prune, threaded);
+}
+template <LevelSetTreeType TreeT>
+void csgIntersection(Grid<TreeT>& a, Grid<TreeT>& b, bool prune, bool threaded) {
+    detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Intersection, a.tree(), b.tree(), prune,
+                                      threaded);
+}
+template <LevelSetTreeType TreeT>
+void csgDifference(Grid<TreeT>& a, Grid<TreeT>& b, bool prune, bool threaded) {
+    detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Difference, a.tree(), b.tree(), prune,
+                                      threaded);
+}
+
+template <LevelSetTreeType TreeT>
+std::unique_ptr<TreeT> csgUnionCopy(const TreeT& a, const TreeT& b, bool threaded) {
+    return detail::csgTreeCopy(detail::CsgKind::Union, a, b, threaded);
+}
+template <LevelSetTreeType TreeT>
+std::unique_ptr<TreeT> csgIntersectionCopy(const TreeT& a, const TreeT& b, bool threaded) {
+    return detail::csgTreeCopy(detail::CsgKind::Intersection, a, b, threaded);
+}
+template <LevelSetTreeType TreeT>
+std::unique_ptr<TreeT> csgDifferenceCopy(const TreeT& a, const TreeT& b, bool threaded) {
+    return detail::csgTreeCopy(detail::CsgKind::Difference, a, b, threaded);
+}
+
+template <LevelSetTreeType TreeT>
+typename Grid<TreeT>::Ptr csgUnionCopy(const Grid<TreeT>& a, const Grid<TreeT>& b, bool threaded) {
+    return detail::csgGridCopy(detail::CsgKind::Union, a, b, threaded);
+}
+template <LevelSetTreeType TreeT>
+typename Grid<TreeT>::Ptr csgIntersectionCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
+                                              bool threaded) {
+    return detail::csgGridCopy(detail::CsgKind::Intersection, a, b, threaded);
+}
+template <LevelSetTreeType TreeT>
+typename Grid<TreeT>::Ptr csgDifferenceCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
+                                            bool threaded) {
+    return detail::csgGridCopy(detail::CsgKind::Difference, a, b, threaded);
+}
+
+// ---- Instantiated once in src/instantiate/Composite.cpp
+
+extern template struct detail::CsgRunner<FloatTree>;
+extern template struct detail::CsgRunner<DoubleTree>;
+
+}  // namespace vdb::tools

@@ -1,0 +1,396 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Pruning: nodes that hold nothing but one value become tiles (paper 2.1 and 4.2, "prune
+/// empty nodes"), bottom-up, threaded over the nodes of each level.
+///
+/// The rules and the tile values are those of OpenVDB 10's tools/Prune.h:
+/// - prune(): a node without children whose values all lie within `tolerance` of each other
+///   (largest minus smallest at most `tolerance`) and share one active state becomes a tile of
+///   that state. Its value is the node's lower median: element (N - 1) / 2 of the N values in
+///   ascending order (vectors compare lexicographically). Bool and mask trees compare exactly.
+/// - pruneInactive(): a node with no active value and no child becomes an inactive tile of the
+///   background; pruneInactiveWithValue() uses a given value instead.
+/// - pruneLevelSet(): a node with no active value and no child becomes an inactive tile of the
+///   inside value (-background) when its first value is negative, else of the outside value
+///   (+background).
+/// With a root on top, every inactive root tile equal to the background is then removed, with
+/// OpenVDB's default comparison (within 1e-8 for float, 1e-15 for double; exact for integers
+/// and bools; per component within 1e-7, absolute or relative, for vectors). A bounded tree's
+/// top node keeps its tiles.
+///
+/// Cost: one pass over the masks of every node below the top and over the values of each node
+/// whose mask allows a tile; the nodes of one level are processed in parallel, children before
+/// parents, so results do not depend on the thread count.
+///
+/// @code
+/// vdb::tools::prune(tree);                // exact: only truly constant nodes
+/// vdb::tools::prune(tree, 1e-3f);         // values within 0.001 of each other
+/// vdb::tools::pruneLevelSet(sdf.tree());  // narrow-band level set: keep only the band's nodes
+/// @endcode
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Types.h>
+#include <vdb/math/Coord.h>
+#include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeUtil.h>
+#include <vdb/tree/Tree.h>
+#include <vdb/tree/TreeConfigs.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <type_traits>
+#include <vector>
+
+namespace vdb::tools {
+
+/// Replaces with a tile every node whose values lie within `tolerance` of each other and share
+/// one active state; the tile takes the node's lower median value. Children are pruned before
+/// their parents, so whole constant branches collapse. Calls tree.clearAllAccessors() when it
+/// frees nodes. Leaves whose values are not in memory are kept.
+template <VdbTree TreeT>
+void prune(TreeT& tree, typename TreeT::ValueType tolerance = typename TreeT::ValueType{},
+           bool threaded = true);
+
+/// Replaces with an inactive tile of the background every node that has no active value and no
+/// child, bottom-up; then drops root tiles equal to the background.
+template <VdbTree TreeT>
+void pruneInactive(TreeT& tree, bool threaded = true);
+
+/// As pruneInactive(), with inactive tiles of `value` instead of the background. In a mask tree
+/// a tile's value is its state, so the new tiles hold false whatever `value` is.
+template <VdbTree TreeT>
+void pruneInactiveWithValue(TreeT& tree, const typename TreeT::ValueType& value,
+                            bool threaded = true);
+
+/// Replaces every node that has no active value and no child with an inactive tile of
+/// -background when the node's first value (at its smallest corner) is negative, else of
+/// +background; then drops root tiles equal to the background. For narrow-band level sets,
+/// whose inactive values are all +-background.
+/// @throw ValueError when the background is negative.
+template <SignedVdbTree TreeT>
+void pruneLevelSet(TreeT& tree, bool threaded = true);
+
+/// As pruneLevelSet(tree), with tiles of `insideValue` where the first value is negative and of
+/// `outsideValue` elsewhere.
+/// @throw ValueError when `outsideValue` is negative or `insideValue` is not.
+template <SignedVdbTree TreeT>
+void pruneLevelSet(TreeT& tree, const typename TreeT::ValueType& outsideValue,
+                   const typename TreeT::ValueType& insideValue, bool threaded = true);
+
+// ---- Implementation ---------------------------------------------------------------------------
+
+namespace detail {
+
+/// `a < b`; vectors compare lexicographically, component 0 first (OpenVDB's Tuple order).
+template <typename ValueT>
+bool pruneLess(const ValueT& a, const ValueT& b) {
+    if constexpr (std::is_arithmetic_v<ValueT>) {
+        return a < b;
+    } else {
+        for (int i = 0; i < 2; ++i) {
+            if (a[i] != b[i])
+                return a[i] < b[i];
+        }
+        return a[2] < b[2];
+    }
+}
+
+/// True when `hi - lo` exceeds `tolerance`, for `lo` before `hi` in pruneLess order. Integer
+/// differences are taken without overflow.
+template <typename ValueT>
+bool pruneSpreadExceeds(const ValueT& lo, const ValueT& hi, const ValueT& tolerance) {
+    if constexpr (std::is_integral_v<ValueT>) {
+        using U = std::make_unsigned_t<ValueT>;
+        return tolerance < 0 || U(U(hi) - U(lo)) > U(tolerance);
+    } else if constexpr (std::is_arithmetic_v<ValueT>) {
+        return hi - lo > tolerance;
+    } else {
+        // Lexicographic "greater than" on the componentwise difference.
+        const ValueT d = hi - lo;
+        for (int i = 0; i < 2; ++i) {
+            if (d[i] != tolerance[i])
+                return d[i] > tolerance[i];
+        }
+        return d[2] > tolerance[2];
+    }
+}
+
+/// OpenVDB's default approximate equality, which decides which root tiles are background.
+template <typename ValueT>
+bool isApproxBackground(const ValueT& a, const ValueT& b) {
+    if constexpr (std::is_same_v<ValueT, float>) {
+        return !(std::abs(a - b) > 1e-8f);
+    } else if constexpr (std::is_same_v<ValueT, double>) {
+        return !(std::abs(a - b) > 1e-15);
+    } else if constexpr (std::is_arithmetic_v<ValueT>) {
+        return a == b;
+    } else {
+        // Vectors: each component within 1e-7, absolutely or relative to the larger magnitude.
+        using T = typename ValueT::ValueType;
+        const T eps = static_cast<T>(1e-7);
+        for (int i = 0; i < 3; ++i) {
+            const T x = a[i], y = b[i];
+            const T diff = T(x - y);
+            if (!(std::abs(diff) > eps))
+                continue;
+            const T scale = std::abs(y) > std::abs(x) ? y : x;
+            if (!(double(std::abs(T(diff / scale))) <= double(eps)))
+                return false;
+        }
+        return true;
+    }
+}
+
+/// True when the `n` values `get(0..n-1)` lie within `tolerance` (largest minus smallest).
+template <typename ValueT, typename GetT>
+bool valuesWithin(Index n, const GetT& get, const ValueT& tolerance) {
+    ValueT lo = get(0), hi = lo;
+    for (Index i = 1; i < n; ++i) {
+        const ValueT& v = get(i);
+        if (pruneLess(v, lo)) {
+            if (pruneSpreadExceeds(v, hi, tolerance))
+                return false;
+            lo = v;
+        } else if (pruneLess(hi, v)) {
+            if (pruneSpreadExceeds(lo, v, tolerance))
+                return false;
+            hi = v;
+        }
+    }
+    return true;
+}
+
+/// The lower median of `get(0..n-1)`: the element at (n - 1) / 2 after std::nth_element over the
+/// values in table order, so that equal-comparing values (0 and -0) resolve as OpenVDB's do.
+template <typename ValueT, typename GetT>
+ValueT lowerMedian(Index n, const GetT& get) {
+    std::vector<ValueT> values(n);
+    for (Index i = 0; i < n; ++i)
+        values[i] = get(i);
+    const size_t mid = (size_t(n) - 1) >> 1;
+    std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(mid), values.end(),
+                     [](const ValueT& a, const ValueT& b) { return pruneLess(a, b); });
+    return values[mid];
+}
+
+/// True when `node` could be replaced by one tile under prune(tolerance); then `value` and
+/// `state` describe the tile.
+template <typename NodeT, typename ValueT>
+bool isConstantForPrune(const NodeT& node, const ValueT& tolerance, ValueT& value, bool& state) {
+    if constexpr (std::is_same_v<ValueT, bool>) {
+        // Bool and mask nodes: exact; the node's own test reads both masks.
+        if constexpr (NodeT::LEVEL == 0) {
+            return node.isConstant(value, state, tolerance);
+        } else {
+            return node.getChildMask().isOff() && node.isConstant(value, state, tolerance);
+        }
+    } else if constexpr (NodeT::LEVEL == 0) {
+        if (!node.isAllocated())
+            return false;
+        const auto& mask = node.getValueMask();
+        state = mask.isOn(0);
+        if (state ? !mask.isOn() : !mask.isOff())
+            return false;
+        const auto get = [&](Index n) -> const ValueT& { return node.getValue(n); };
+        if (!valuesWithin<ValueT>(NodeT::NUM_VALUES, get, tolerance))
+            return false;
+        value = lowerMedian<ValueT>(NodeT::NUM_VALUES, get);
+        return true;
+    } else {
+        if (!node.getChildMask().isOff())
+            return false;
+        const auto& mask = node.getValueMask();
+        state = mask.isOn(0);
+        if (state ? !mask.isOn() : !mask.isOff())
+            return false;
+        const auto get = [&](Index n) -> const ValueT& { return node.getTileValue(n); };
+        if (!valuesWithin<ValueT>(NodeT::NUM_VALUES, get, tolerance))
+            return false;
+        value = lowerMedian<ValueT>(NodeT::NUM_VALUES, get);
+        return true;
+    }
+}
+
+/// True when `node` has no active value and no child.
+template <typename NodeT>
+bool isInactiveNode(const NodeT& node) {
+    if constexpr (NodeT::LEVEL == 0) {
+        return node.isEmpty();
+    } else {
+        return node.getChildMask().isOff() && node.getValueMask().isOff();
+    }
+}
+
+/// The value at the smallest corner of `node` (table entry 0). @pre the node has no child there
+template <typename NodeT>
+typename NodeT::ValueType firstTileOrVoxel(const NodeT& node) {
+    if constexpr (NodeT::LEVEL == 0) {
+        return node.getValue(Index(0));
+    } else {
+        return node.getTileValue(0);
+    }
+}
+
+template <Index L, Index Top, typename ListsT, typename OpT>
+void foreachLevelBottomUp(const ListsT& lists, const OpT& op, bool threaded) {
+    if constexpr (L < Top) {
+        lists.template foreach<L>(op, threaded);
+        foreachLevelBottomUp<L + 1, Top>(lists, op, threaded);
+    }
+}
+
+/// The driver shared by every prune: `decide(child, value, state)` says whether a child becomes
+/// a tile (of `value`, `state`). The internal nodes of each level, lowest first, decide for
+/// their children in parallel; then the top node, and a root drops its background tiles.
+template <typename TreeT, typename DecideT>
+void pruneBottomUp(TreeT& tree, const DecideT& decide, bool threaded) {
+    using TopT = typename TreeT::TopNodeType;
+    using ValueT = typename TreeT::ValueType;
+    std::atomic<bool> freed{false};
+
+    // Replace each child of `node` that `decide` accepts with a tile.
+    const auto pruneChildren = [&](auto& node) {
+        bool any = false;
+        ValueT value{};
+        bool state = false;
+        for (Index n : node.getChildMask().onBits()) {
+            if (decide(*node.getChild(n), value, state)) {
+                node.setTile(n, value, state);
+                any = true;
+            }
+        }
+        if (any)
+            freed.store(true, std::memory_order_relaxed);
+    };
+
+    // Levels 1 .. TOP-1, each in parallel, children before parents.
+    if constexpr (TopT::LEVEL > 1) {
+        const NodeLists<TreeT> lists(tree, 1);
+        foreachLevelBottomUp<1, TopT::LEVEL>(lists, pruneChildren, threaded);
+    }
+
+    TopT& top = tree.topNode();
+    if constexpr (tree::IS_ROOT_NODE<TopT>) {
+        ValueT value{};
+        bool state = false;
+        std::vector<Coord> background;
+        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
+            auto& e = top.entry(c);
+            if (e.child && decide(*e.child, value, state)) {
+                delete e.child;
+                e.child = nullptr;
+                e.tile = value;
+                e.active = state;
+                freed.store(true, std::memory_order_relaxed);
+            }
+            if (!e.child && !e.active && isApproxBackground(e.tile, top.background()))
+                background.push_back(top.key(c));
+        }
+        for (const Coord& key : background)
+            top.eraseEntry(key);
+    } else {
+        pruneChildren(top);
+    }
+    if (freed.load(std::memory_order_relaxed))
+        tree.clearAllAccessors();
+}
+
+}  // namespace detail
+
+template <VdbTree TreeT>
+void prune(TreeT& tree, typename TreeT::ValueType tolerance, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    detail::pruneBottomUp(
+        tree,
+        [&tolerance](const auto& child, ValueT& value, bool& state) {
+            return detail::isConstantForPrune(child, tolerance, value, state);
+        },
+        threaded);
+}
+
+template <VdbTree TreeT>
+void pruneInactiveWithValue(TreeT& tree, const typename TreeT::ValueType& value, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    const ValueT tileValue =
+        std::is_same_v<typename TreeT::BuildType, ValueMask> ? ValueT{} : value;
+    detail::pruneBottomUp(
+        tree,
+        [&tileValue](const auto& child, ValueT& v, bool& state) {
+            if (!detail::isInactiveNode(child))
+                return false;
+            v = tileValue;
+            state = false;
+            return true;
+        },
+        threaded);
+}
+
+template <VdbTree TreeT>
+void pruneInactive(TreeT& tree, bool threaded) {
+    const typename TreeT::ValueType background = tree.background();
+    pruneInactiveWithValue(tree, background, threaded);
+}
+
+namespace detail {
+
+template <typename TreeT>
+void pruneLevelSetWith(TreeT& tree, const typename TreeT::ValueType& outside,
+                       const typename TreeT::ValueType& inside, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    pruneBottomUp(
+        tree,
+        [&outside, &inside](const auto& child, ValueT& v, bool& state) {
+            using ChildT = std::remove_cvref_t<decltype(child)>;
+            if (!isInactiveNode(child))
+                return false;
+            if constexpr (ChildT::LEVEL == 0) {
+                if (!child.isAllocated())
+                    return false;
+            }
+            v = firstTileOrVoxel(child) < ValueT(0) ? inside : outside;
+            state = false;
+            return true;
+        },
+        threaded);
+}
+
+}  // namespace detail
+
+template <SignedVdbTree TreeT>
+void pruneLevelSet(TreeT& tree, const typename TreeT::ValueType& outsideValue,
+                   const typename TreeT::ValueType& insideValue, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    if (outsideValue < ValueT(0))
+        throw ValueError("pruneLevelSet: the outside value cannot be negative");
+    if (!(insideValue < ValueT(0)))
+        throw ValueError("pruneLevelSet: the inside value must be negative");
+    const ValueT outside = outsideValue, inside = insideValue;
+    detail::pruneLevelSetWith(tree, outside, inside, threaded);
+}
+
+template <SignedVdbTree TreeT>
+void pruneLevelSet(TreeT& tree, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    const ValueT outside = tree.background();
+    if (outside < ValueT(0))
+        throw ValueError("pruneLevelSet: the background value cannot be negative");
+    detail::pruneLevelSetWith(tree, outside, ValueT(-outside), threaded);
+}
+
+}  // namespace vdb::tools
+
+// ---- Instantiated once in src/instantiate/Prune.cpp
+
+namespace vdb::tools {
+
+extern template void prune(FloatTree&, float, bool);
+extern template void prune(DoubleTree&, double, bool);
+extern template void pruneInactive(FloatTree&, bool);
+extern template void pruneInactive(DoubleTree&, bool);
+extern template void pruneLevelSet(FloatTree&, bool);
+extern template void pruneLevelSet(DoubleTree&, bool);
+
+}  // namespace vdb::tools

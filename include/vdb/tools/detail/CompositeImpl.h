@@ -1,0 +1,429 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// The machinery of the CSG operations of tools/Composite.h: one top-down walk over two level
+/// set trees that settles whole branches by their tiles and collects the pairs of overlapping
+/// leaves, which are then combined voxel by voxel in parallel. Not API.
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Types.h>
+#include <vdb/math/Coord.h>
+#include <vdb/tree/Tree.h>
+#include <vdb/util/Parallel.h>
+
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace vdb::tools::detail {
+
+enum class CsgKind { Union, Intersection, Difference };
+
+/// OpenVDB's default comparison tolerance, used to recognise background values.
+template <typename ValueT>
+constexpr ValueT csgTolerance() {
+    if constexpr (std::is_same_v<ValueT, float>) {
+        return 1e-8f;
+    } else if constexpr (std::is_same_v<ValueT, double>) {
+        return 1e-15;
+    } else {
+        return ValueT(0);
+    }
+}
+
+template <typename ValueT>
+bool csgApproxEqual(const ValueT& a, const ValueT& b) {
+    return !(std::abs(a - b) > csgTolerance<ValueT>());
+}
+
+/// Throws ValueError unless `background` is positive (and its negation negative), the sign
+/// convention every level set input of a CSG operation must follow.
+template <typename ValueT>
+void validateLevelSetBackground(const ValueT& background, const char* operation, const char* name) {
+    if (!(background > ValueT(0)) || !(-background < ValueT(0))) {
+        std::ostringstream msg;
+        msg << operation << ": expected the background of level set " << name
+            << " to be positive (the outside value), got " << background;
+        throw ValueError(msg.str());
+    }
+}
+
+/// Merges level set `b` into level set `a` (paper 4.3), with OpenVDB 10's rules:
+///
+/// - Where one tree has a tile and the other a child, the tile decides for the whole branch.
+///   For a union an inside tile (negative) wins over anything and is stored as -background; an
+///   outside tile (positive) loses, so the other tree's branch is kept or transferred. For an
+///   intersection the roles of inside and outside swap. For a difference a - b, an inside tile
+///   of b over anything of a makes an outside tile (+background), and b's branches that fall
+///   in an inside tile of a are transferred negated.
+/// - Where both trees have a leaf, each voxel takes min(a, b) (union), max(a, b) (intersection)
+///   or max(a, -b) (difference), with the active state of the input it came from; ties keep a.
+/// - At the root, tiles are normalised to +-background of `a` and background tiles dropped.
+///
+/// Branches of b are stolen when `Steal` (b is then cleared by the caller) and deep-copied
+/// otherwise. Transferred branches get b's background replaced by a's in their inactive values
+/// (within OpenVDB's tolerance), then are negated for a difference.
+///
+/// Threads: the walk over internal nodes is serial; leaf pairs and the leaves of transferred
+/// branches are processed in parallel, each by one task, so the result does not depend on the
+/// thread count.
+template <typename TreeT, CsgKind Kind, bool Steal>
+class CsgMerge {
+public:
+    using ValueT = typename TreeT::ValueType;
+    using TopT = typename TreeT::TopNodeType;
+    using LeafT = typename TreeT::LeafNodeType;
+    using OtherTreeT = std::conditional_t<Steal, TreeT, const TreeT>;
+    using OtherTopT = std::conditional_t<Steal, TopT, const TopT>;
+    using OtherTopChildT =
+        std::conditional_t<Steal, typename TopT::ChildNodeType, const typename TopT::ChildNodeType>;
+
+    static constexpr bool UNION = Kind == CsgKind::Union;
+    static constexpr bool DIFFERENCE = Kind == CsgKind::Difference;
+
+    CsgMerge(TreeT& a, OtherTreeT& b)
+        : mA(a),
+          mB(b),
+          mBackgroundA(a.background()),
+          mBackgroundB(b.background()),
+          mMovedNeedFix(DIFFERENCE || !(a.background() == b.background())) {}
+
+    void run(bool threaded) {
+        if constexpr (TreeT::BOUNDED) {
+            mergeNode(mA.topNode(), static_cast<OtherTopT&>(mB.topNode()));
+        } else if constexpr (DIFFERENCE) {
+            mergeRootDifference(mA.root(), static_cast<OtherTopT&>(mB.root()));
+        } else {
+            mergeRoot(mA.root(), static_cast<OtherTopT&>(mB.root()));
+        }
+        // The voxel work: overlapping leaves, then the leaves of transferred branches.
+        util::parallelFor(
+            mLeafPairs.size(),
+            [this](size_t i) { combineLeaves(*mLeafPairs[i].first, *mLeafPairs[i].second); },
+            threaded, 4);
+        util::parallelFor(
+            mMovedLeaves.size(), [this](size_t i) { fixMovedLeaf(*mMovedLeaves[i]); }, threaded,
+            16);
+        mA.clearAllAccessors();
+    }
+
+private:
+    // ---- Values
+
+    bool isWinning(const ValueT& v) const { return UNION ? v < ValueT(0) : v > ValueT(0); }
+    bool isLosing(const ValueT& v) const { return UNION ? v > ValueT(0) : v < ValueT(0); }
+    /// The tile value of a winning tile: inside for a union, outside for an intersection.
+    ValueT winningBackground() const { return UNION ? ValueT(-mBackgroundA) : mBackgroundA; }
+
+    /// A value of a branch moved from b to a: b's background becomes a's (inactive values
+    /// only), then the value is negated for a difference.
+    ValueT movedValue(ValueT v, bool active) const {
+        if (!active && !(mBackgroundA == mBackgroundB)) {
+            if (csgApproxEqual(v, mBackgroundB)) {
+                v = mBackgroundA;
+            } else if (csgApproxEqual(v, ValueT(-mBackgroundB))) {
+                v = -mBackgroundA;
+            }
+        }
+        if constexpr (DIFFERENCE)
+            v = -v;
+        return v;
+    }
+
+    // ---- Branches moved from b to a
+
+    template <typename NodeT>
+    void prepareMoved(NodeT& node) {
+        if (!mMovedNeedFix)
+            return;
+        if constexpr (NodeT::LEVEL == 0) {
+            mMovedLeaves.push_back(&node);
+        } else {
+            for (Index n : node.getChildMask().offBits())
+                node.setTileValueOnly(n, movedValue(node.getTileValue(n), node.isTileOn(n)));
+            for (Index n : node.getChildMask().onBits())
+                prepareMoved(*node.getChild(n));
+        }
+    }
+
+    void fixMovedLeaf(LeafT& leaf) const {
+        auto values = leaf.buffer(0);
+        const auto& mask = leaf.getValueMask();
+        for (Index k = 0; k < LeafT::NUM_VALUES; ++k)
+            values[k] = movedValue(values[k], mask.isOn(k));
+    }
+
+    /// Takes the child at `n` out of b (or copies it) and prepares it for a.
+    template <typename BNodeT>
+    auto* takeChild(BNodeT& bNode, Index n) {
+        using ChildT = typename std::remove_const_t<BNodeT>::ChildNodeType;
+        std::unique_ptr<ChildT> child;
+        if constexpr (Steal) {
+            child.reset(bNode.stealChild(n, mBackgroundB, false));
+        } else {
+            child = std::make_unique<ChildT>(*bNode.getChild(n));
+        }
+        prepareMoved(*child);
+        return child.release();
+    }
+
+    static OtherTopChildT& otherChild(OtherTopT& bRoot, const Coord& key) {
+        return *bRoot.findEntry(key)->child;
+    }
+
+    auto* takeRootChild(OtherTopT& bRoot, const Coord& key) {
+        using ChildT = typename TopT::ChildNodeType;
+        std::unique_ptr<ChildT> child;
+        if constexpr (Steal) {
+            child.reset(bRoot.stealChild(key));
+        } else {
+            child = std::make_unique<ChildT>(*bRoot.findEntry(key)->child);
+        }
+        prepareMoved(*child);
+        return child.release();
+    }
+
+    // ---- Leaves
+
+    /// Each voxel takes the winning value and that input's active state; the states are
+    /// merged a 64-bit mask word at a time.
+    void combineLeaves(LeafT& a, const LeafT& b) const {
+        auto av = a.buffer(0);
+        const auto bv = b.buffer(0);
+        auto& am = a.getValueMask();
+        const auto& bm = b.getValueMask();
+        for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w) {
+            uint64_t take = 0;
+            for (Index i = 0; i < 64; ++i) {
+                const Index k = (w << 6) + i;
+                const ValueT other = DIFFERENCE ? ValueT(-bv[k]) : bv[k];
+                const bool fromB = UNION ? other < av[k] : av[k] < other;
+                take |= uint64_t(fromB) << i;
+                av[k] = fromB ? other : av[k];
+            }
+            am.getWord(w) = (am.getWord(w) & ~take) | (bm.getWord(w) & take);
+        }
+    }
+
+    // ---- Internal nodes
+
+    template <typename NodeT, typename BNodeT>
+    void mergeChildren(NodeT& a, BNodeT& b) {
+        if constexpr (NodeT::LEVEL == 0) {
+            mLeafPairs.emplace_back(&a, &b);
+        } else {
+            mergeNode(a, b);
+        }
+    }
+
+    template <typename NodeT, typename BNodeT>
+    void mergeNode(NodeT& a, BNodeT& b) {
+        using MaskT = typename NodeT::MaskType;
+        // No scratch masks (a bounded tree's top node has up to 2^30 entries): a's tiles are
+        // classified from its current state, which changes at an entry only once that entry
+        // has been settled, so this reads as masks taken before the loops.
+        const auto bTiles = [&](Index w) { return ~b.getChildMask().getWord(w); };
+        const auto bChildren = [&](Index w) { return b.getChildMask().getWord(w); };
+        if constexpr (DIFFERENCE) {
+            const auto inside = [&](Index n) {
+                return !a.isChild(n) && a.getTileValue(n) < ValueT(0);
+            };
+            // b's inside tiles make a outside over a's inside tiles and children.
+            tree::detail::forEachOnBit<MaskT>(bTiles, [&](Index n) {
+                if (b.getTileValue(n) < ValueT(0) && (a.isChild(n) || inside(n)))
+                    a.setTile(n, mBackgroundA, b.isTileOn(n));
+            });
+            // b's children: moved negated into a's inside tiles, merged with a's children.
+            tree::detail::forEachOnBit<MaskT>(bChildren, [&](Index n) {
+                if (inside(n)) {
+                    a.setChild(n, takeChild(b, n));
+                } else if (a.isChild(n)) {
+                    mergeChildren(*a.getChild(n), *b.getChild(n));
+                }
+            });
+        } else {
+            // a's winning and losing tiles (zero tiles are neither).
+            const auto winning = [&](Index n) {
+                return !a.isChild(n) && isWinning(a.getTileValue(n));
+            };
+            const auto losing = [&](Index n) {
+                return !a.isChild(n) && isLosing(a.getTileValue(n));
+            };
+            // b's winning tiles replace whatever a has that is not winning.
+            tree::detail::forEachOnBit<MaskT>(bTiles, [&](Index n) {
+                if (!winning(n) && isWinning(b.getTileValue(n)))
+                    a.setTile(n, winningBackground(), b.isTileOn(n));
+            });
+            // b's children: dropped under a's winning tiles, moved into a's losing tiles,
+            // merged with a's children.
+            tree::detail::forEachOnBit<MaskT>(bChildren, [&](Index n) {
+                if (winning(n))
+                    return;
+                if (losing(n)) {
+                    a.setChild(n, takeChild(b, n));
+                } else if (a.isChild(n)) {
+                    mergeChildren(*a.getChild(n), *b.getChild(n));
+                }
+            });
+        }
+    }
+
+    // ---- Root nodes
+
+    static constexpr uint8_t ACTIVE_TILE = 0x1;
+    static constexpr uint8_t INSIDE_TILE = 0x2;
+    static constexpr uint8_t OUTSIDE_TILE = 0x4;
+    static constexpr uint8_t CHILD = 0x8;
+
+    static uint8_t tileFlags(const ValueT& value, bool active) {
+        uint8_t flags = active ? ACTIVE_TILE : 0;
+        if (value < ValueT(0)) {
+            flags |= INSIDE_TILE;
+        } else if (value > ValueT(0)) {
+            flags |= OUTSIDE_TILE;
+        }
+        return flags;
+    }
+
+    /// Removes the inactive root tiles equal to a's background (within OpenVDB's tolerance).
+    void eraseBackgroundTiles(TopT& root) const {
+        std::vector<Coord> keys;
+        for (auto c = root.cbegin(); root.valid(c); root.next(c)) {
+            const auto& e = root.entry(c);
+            if (!e.child && !e.active && csgApproxEqual(e.tile, mBackgroundA))
+                keys.push_back(root.key(c));
+        }
+        for (const Coord& key : keys)
+            root.eraseEntry(key);
+    }
+
+    void mergeRoot(TopT& a, OtherTopT& b) {
+        constexpr uint8_t WIN = UNION ? INSIDE_TILE : OUTSIDE_TILE;
+        constexpr uint8_t LOSE = UNION ? OUTSIDE_TILE : INSIDE_TILE;
+        eraseBackgroundTiles(a);
+        // An intersection is empty (outside) wherever b has no entry.
+        if constexpr (!UNION) {
+            std::vector<Coord> keys;
+            for (auto c = a.cbegin(); a.valid(c); a.next(c)) {
+                if (!b.findEntry(a.key(c)))
+                    keys.push_back(a.key(c));
+            }
+            for (const Coord& key : keys)
+                a.eraseEntry(key);
+        }
+        // The tiles of both roots; a winning tile of b replaces a losing tile of a.
+        std::map<Coord, uint8_t> tiles;
+        for (auto c = a.cbegin(); a.valid(c); a.next(c)) {
+            const auto& e = a.entry(c);
+            if (!e.child)
+                tiles.emplace(a.key(c), tileFlags(e.tile, e.active));
+        }
+        std::vector<Coord> bChildren;
+        for (auto c = b.cbegin(); b.valid(c); b.next(c)) {
+            const auto& e = b.entry(c);
+            if (e.child) {
+                bChildren.push_back(b.key(c));
+                continue;
+            }
+            const uint8_t flags = tileFlags(e.tile, e.active);
+            auto [it, inserted] = tiles.emplace(b.key(c), flags);
+            if (!inserted && (it->second & LOSE) && (flags & WIN))
+                it->second = flags;
+        }
+        // Winning tiles, as +-background, over anything.
+        for (const auto& [key, flags] : tiles) {
+            if ((flags & WIN) && (UNION || a.findEntry(key)))
+                a.setTile(key, winningBackground(), (flags & ACTIVE_TILE) != 0);
+        }
+        // b's children: merged with a's children, dropped under an inactive winning tile,
+        // moved anywhere else.
+        std::set<Coord> children;
+        for (auto c = a.cbegin(); a.valid(c); a.next(c)) {
+            if (a.entry(c).child)
+                children.insert(a.key(c));
+        }
+        std::vector<Coord> pairs;
+        for (const Coord& key : bChildren) {
+            if (!UNION && !a.findEntry(key))
+                continue;
+            if (children.count(key)) {
+                pairs.push_back(key);
+                continue;
+            }
+            const auto it = tiles.find(key);
+            if (it != tiles.end() && it->second == WIN)
+                continue;
+            std::unique_ptr<typename TopT::ChildNodeType> child(takeRootChild(b, key));
+            a.setChild(child.get());
+            child.release();
+            children.insert(key);
+        }
+        // Losing tiles, as -+background, where no child took their place.
+        for (const auto& [key, flags] : tiles) {
+            if ((flags & LOSE) && !children.count(key) && (UNION || a.findEntry(key)))
+                a.setTile(key, ValueT(-winningBackground()), (flags & ACTIVE_TILE) != 0);
+        }
+        eraseBackgroundTiles(a);
+        for (const Coord& key : pairs)
+            mergeChildren(*a.findEntry(key)->child, otherChild(b, key));
+    }
+
+    void mergeRootDifference(TopT& a, OtherTopT& b) {
+        eraseBackgroundTiles(a);
+        // a's children and inside tiles.
+        std::map<Coord, uint8_t> flags;
+        for (auto c = a.cbegin(); a.valid(c); a.next(c)) {
+            const auto& e = a.entry(c);
+            if (e.child) {
+                flags.emplace(a.key(c), CHILD);
+            } else if (e.tile < ValueT(0)) {
+                flags.emplace(a.key(c), tileFlags(e.tile, e.active));
+            }
+        }
+        // b's inside tiles make a outside over a's inside tiles and children.
+        std::vector<Coord> bChildren;
+        for (auto c = b.cbegin(); b.valid(c); b.next(c)) {
+            const auto& e = b.entry(c);
+            if (e.child) {
+                bChildren.push_back(b.key(c));
+            } else if (e.tile < ValueT(0) && flags.count(b.key(c))) {
+                a.setTile(b.key(c), mBackgroundA, e.active);
+            }
+        }
+        // b's children: merged with a's children, moved negated into a's inside tiles.
+        std::vector<Coord> pairs;
+        for (const Coord& key : bChildren) {
+            const auto it = flags.find(key);
+            if (it == flags.end())
+                continue;
+            if (it->second & CHILD) {
+                pairs.push_back(key);
+            } else if (it->second & INSIDE_TILE) {
+                std::unique_ptr<typename TopT::ChildNodeType> child(takeRootChild(b, key));
+                a.setChild(child.get());
+                child.release();
+            }
+        }
+        eraseBackgroundTiles(a);
+        for (const Coord& key : pairs)
+            mergeChildren(*a.findEntry(key)->child, otherChild(b, key));
+    }
+
+    TreeT& mA;
+    OtherTreeT& mB;
+    const ValueT mBackgroundA;
+    const ValueT mBackgroundB;
+    const bool mMovedNeedFix;  // moved branches need background replacement or negation
+    std::vector<std::pair<LeafT*, const LeafT*>> mLeafPairs;
+    std::vector<LeafT*> mMovedLeaves;
+};
+
+}  // namespace vdb::tools::detail

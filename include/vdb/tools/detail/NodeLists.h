@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// NodeLists: the nodes of a tree below its top node, one flat array per level, so that a tool
+/// can process every node of one level in parallel and then the level above (bottom-up), or
+/// the other way round; and the tree concepts the tools in include/vdb/tools/ constrain with.
+/// NodeLists is not API.
+
+#pragma once
+
+#include <vdb/Types.h>
+#include <vdb/tree/NodeUtil.h>
+#include <vdb/tree/Tree.h>
+#include <vdb/util/Parallel.h>
+
+#include <cstddef>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace vdb::tools {
+
+/// A tree of any configuration: a RootNode (unbounded) or an InternalNode (bounded) on top.
+template <typename TreeT>
+concept VdbTree = tree::TopNodeType<typename TreeT::TopNodeType>;
+
+/// A tree whose values carry a sign (float, double, Int32, Int64), as level sets need.
+template <typename TreeT>
+concept SignedVdbTree = VdbTree<TreeT> && std::is_signed_v<typename TreeT::ValueType>;
+
+}  // namespace vdb::tools
+
+namespace vdb::tools::detail {
+
+/// The nodes of levels [minLevel, TOP) of one tree, in arrays per level (level 0 holds the
+/// leaves). Within a level the order is the order of the parents' tables, so it depends only
+/// on the tree, never on the thread count.
+///
+/// The arrays are a snapshot: a node freed after construction leaves a dangling pointer in its
+/// level's array, so a bottom-up pass must not revisit a level once the level above it has
+/// replaced children with tiles.
+/// Threads: construction is serial; the arrays may be read concurrently.
+template <typename TreeT>
+class NodeLists {
+public:
+    using TopT = typename TreeT::TopNodeType;
+    static constexpr Index TOP = TopT::LEVEL;
+    template <Index L>
+    using NodeT = tree::NodeAtLevelT<TopT, L>;
+
+    /// Collects every node of the levels minLevel to TOP - 1. O(number of those nodes), plus
+    /// one scan of the top node's child mask.
+    explicit NodeLists(TreeT& tree, Index minLevel = 0) {
+        if (minLevel < TOP)
+            collect<TOP - 1>(tree, minLevel);
+    }
+
+    template <Index L>
+    const std::vector<NodeT<L>*>& nodes() const {
+        return std::get<L>(mLists);
+    }
+
+    /// Calls `op(node)` for every collected node of level L, in parallel when `threaded`.
+    template <Index L, typename OpT>
+    void foreach (const OpT& op, bool threaded, size_t grain = 1) const {
+        const auto& list = std::get<L>(mLists);
+        util::parallelFor(
+            list.size(), [&](size_t i) { op(*list[i]); }, threaded, grain);
+    }
+
+private:
+    template <size_t... L>
+    static auto makeLists(std::index_sequence<L...>) -> std::tuple<std::vector<NodeT<L>*>...>;
+    using Lists = decltype(makeLists(std::make_index_sequence<TOP>{}));
+
+    template <Index L>
+    void collect(TreeT& tree, Index minLevel) {
+        auto& list = std::get<L>(mLists);
+        if constexpr (L + 1 == TOP) {
+            TopT& top = tree.topNode();
+            if constexpr (tree::IS_ROOT_NODE<TopT>) {
+                list.reserve(top.entryCount());
+                for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
+                    if (auto* child = top.entry(c).child)
+                        list.push_back(child);
+                }
+            } else {
+                list.reserve(top.getChildMask().countOn());
+                for (Index n : top.getChildMask().onBits())
+                    list.push_back(top.getChild(n));
+            }
+        } else {
+            size_t count = 0;
+            for (const auto* parent : std::get<L + 1>(mLists))
+                count += parent->getChildMask().countOn();
+            list.reserve(count);
+            for (auto* parent : std::get<L + 1>(mLists)) {
+                for (Index n : parent->getChildMask().onBits())
+                    list.push_back(parent->getChild(n));
+            }
+        }
+        if constexpr (L > 0) {
+            if (L > minLevel)
+                collect<L - 1>(tree, minLevel);
+        }
+    }
+
+    Lists mLists;
+};
+
+}  // namespace vdb::tools::detail
