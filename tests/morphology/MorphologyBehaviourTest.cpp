@@ -351,6 +351,25 @@ TEST(Morphology, LeafManagerOverloadsRebuildTheLeafArray) {
     EXPECT_EQ(leaves.leafCount(), 1u) << "PRESERVE_TILES erosion removed the emptied leaves";
 }
 
+template <typename TreeT>
+void checkLeafManagerOverloadsWithoutBuffers() {
+    TreeT tree(false);
+    tree.setValueOn(Coord(7, 7, 7));
+    tree::LeafManager<TreeT> leaves(tree);
+    dilateActiveValues(leaves, 1, NN_FACE_EDGE_VERTEX);
+    EXPECT_EQ(tree.activeVoxelCount(), 27u);
+    EXPECT_EQ(leaves.leafCount(), 8u);
+    EXPECT_EQ(leaves.leafCount(), tree.leafCount());
+    erodeActiveValues(leaves, 1, NN_FACE_EDGE_VERTEX);
+    EXPECT_EQ(tree.activeVoxelCount(), 1u);
+    EXPECT_EQ(leaves.leafCount(), tree.leafCount());
+}
+
+TEST(Morphology, LeafManagerOverloadsWorkOnBoolAndMaskTrees) {
+    checkLeafManagerOverloadsWithoutBuffers<BoolTree>();
+    checkLeafManagerOverloadsWithoutBuffers<MaskTree>();
+}
+
 // ---- Threads ----------------------------------------------------------------------------------
 
 /// Balls, a random cloud and tiles of two sizes: about 4000 leaves at full scale.

@@ -84,5 +84,29 @@ TEST(LeafManager, ConstTreeAllowsReadOnlyLoops) {
     EXPECT_EQ(count.load(), tree.activeVoxelCount());
 }
 
+template <typename TreeT>
+void checkBufferlessLeaves() {
+    TreeT tree(false);
+    tree.setValueOn(Coord(-9, 0, 3));
+    tree.setValueOn(Coord(100, 200, -300));
+    LeafManager<TreeT> leaves(tree);
+    EXPECT_FALSE(LeafManager<TreeT>::HAS_BUFFERS);
+    EXPECT_EQ(leaves.leafCount(), 2u);
+    std::atomic<Index64> count{0};
+    leaves.foreach ([&](const auto& leaf, size_t) { count += leaf.onVoxelCount(); });
+    EXPECT_EQ(count.load(), 2u);
+    tree.setValueOn(Coord(1000, 0, 0));
+    leaves.rebuild();
+    EXPECT_EQ(leaves.leafCount(), 3u);
+    EXPECT_THROW(leaves.rebuild(1), ValueError);
+    EXPECT_THROW(LeafManager<TreeT>(tree, 2), ValueError);
+}
+
+TEST(LeafManager, BoolAndMaskTreesHaveLeavesButNoTemporalBuffers) {
+    EXPECT_TRUE(LeafManager<FloatTree>::HAS_BUFFERS);
+    checkBufferlessLeaves<BoolTree>();
+    checkBufferlessLeaves<MaskTree>();
+}
+
 }  // namespace
 }  // namespace vdb::tree

@@ -13,6 +13,7 @@
 
 #pragma once
 
+#include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
@@ -26,7 +27,8 @@ namespace vdb::tree {
 /// The leaves of one tree in an array, in the tree's iteration order.
 ///
 /// The array is a snapshot: after a change of topology call rebuild(). Value-only changes
-/// through the leaves need no rebuild.
+/// through the leaves need no rebuild. Temporal buffers exist only for leaves that store values
+/// in buffers (not bool or mask leaves); asking such a manager for auxiliary buffers throws.
 /// Threads: foreach() hands each leaf to exactly one task, so an operation that touches only
 /// the leaf it is given needs no locking. `TreeT` may be const for read-only loops.
 template <typename TreeT>
@@ -36,9 +38,14 @@ public:
     using LeafNodeType =
         std::conditional_t<std::is_const_v<TreeT>, const typename TreeType::LeafNodeType,
                            typename TreeType::LeafNodeType>;
+    /// True when the leaves hold their values in buffers that can be multiplied and swapped.
+    static constexpr bool HAS_BUFFERS = requires(typename TreeType::LeafNodeType & leaf) {
+        leaf.setBufferCount(Index(1));
+    };
 
     /// Collects the leaves of `tree`. With `auxBuffers` > 0 every leaf gets that many
     /// temporal buffers beside buffer 0, each a copy of buffer 0.
+    /// @throw ValueError when `auxBuffers` > 0 and the leaves have no buffers (bool, mask).
     explicit LeafManager(TreeT& tree, Index auxBuffers = 0) : mTree(&tree) { rebuild(auxBuffers); }
 
     /// Collects the leaves again (after the topology changed).
@@ -80,6 +87,7 @@ public:
     /// Gives every leaf `count` buffers beside buffer 0 (0 to 2), each a copy of buffer 0.
     void setAuxBufferCount(Index count, bool threaded = true) {
         static_assert(!std::is_const_v<TreeT>, "temporal buffers need a non-const tree");
+        static_assert(HAS_BUFFERS, "bool and mask leaves have no temporal buffers");
         foreach ([count](auto& leaf, size_t) { leaf.setBufferCount(1 + count); }, threaded)
             ;
         mAuxBuffers = count;
@@ -107,10 +115,14 @@ public:
     }
 
 private:
-    template <bool IsConst = std::is_const_v<TreeT>>
     void initAuxBuffers(Index count) {
-        if constexpr (!IsConst)
+        if constexpr (!std::is_const_v<TreeT> && HAS_BUFFERS) {
             setAuxBufferCount(count);
+        } else {
+            throw ValueError(
+                "LeafManager: temporal buffers need a non-const tree whose leaves "
+                "store values in buffers (not bool or mask leaves)");
+        }
     }
     auto beginLeaf() const {
         if constexpr (std::is_const_v<TreeT>) {
