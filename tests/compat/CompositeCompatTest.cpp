@@ -9,6 +9,7 @@
 #include <vdb/tools/Composite.h>
 #include <vdb/tree/TreeConfigs.h>
 
+#include "OpenVdbConvert.h"
 #include <Oracles.h>
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -31,21 +32,9 @@ namespace {
 
 // ---- Converting between the libraries ---------------------------------------------------------
 
-openvdb::Coord toOvdb(const Coord& ijk) {
-    return openvdb::Coord(ijk[0], ijk[1], ijk[2]);
-}
-Coord fromOvdb(const openvdb::Coord& ijk) {
-    return Coord(ijk[0], ijk[1], ijk[2]);
-}
-
-template <typename T>
-bool sameBits(const T& a, const T& b) {
-    if constexpr (std::is_same_v<T, bool>) {
-        return a == b;
-    } else {
-        return std::memcmp(&a, &b, sizeof(T)) == 0;
-    }
-}
+using test::fromOvdb;
+using test::sameBits;
+using test::toOvdb;
 
 /// The OpenVDB tree of the same layout and value type as our 5-4-3 tree `TreeT`.
 template <typename TreeT>

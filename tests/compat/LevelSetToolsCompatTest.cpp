@@ -10,6 +10,7 @@
 #include <vdb/tools/SignedFloodFill.h>
 #include <vdb/tree/TreeConfigs.h>
 
+#include "OpenVdbConvert.h"
 #include <Oracles.h>
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -33,36 +34,9 @@ namespace {
 
 // ---- Converting between the libraries ---------------------------------------------------------
 
-openvdb::Coord toOvdb(const Coord& ijk) {
-    return openvdb::Coord(ijk[0], ijk[1], ijk[2]);
-}
-Coord fromOvdb(const openvdb::Coord& ijk) {
-    return Coord(ijk[0], ijk[1], ijk[2]);
-}
-template <typename T>
-T fromOvdb(const T& v) requires std::is_arithmetic_v<T> {
-    return v;
-}
-Vec3s fromOvdb(const openvdb::Vec3s& v) {
-    return Vec3s(v[0], v[1], v[2]);
-}
-template <typename T>
-T toOvdb(const T& v) requires std::is_arithmetic_v<T> {
-    return v;
-}
-openvdb::Vec3s toOvdb(const Vec3s& v) {
-    return openvdb::Vec3s(v[0], v[1], v[2]);
-}
-
-/// Bitwise equality: -0 and 0 differ, and so do the payloads of NaNs.
-template <typename T>
-bool sameBits(const T& a, const T& b) {
-    if constexpr (std::is_same_v<T, bool>) {
-        return a == b;
-    } else {
-        return std::memcmp(&a, &b, sizeof(T)) == 0;
-    }
-}
+using test::fromOvdb;
+using test::sameBits;
+using test::toOvdb;
 
 // ---- Whole-tree listings ----------------------------------------------------------------------
 

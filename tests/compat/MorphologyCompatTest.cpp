@@ -9,6 +9,7 @@
 #include <vdb/tools/Morphology.h>
 #include <vdb/tree/TreeConfigs.h>
 
+#include "OpenVdbConvert.h"
 #include <Oracles.h>
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -26,12 +27,7 @@
 namespace vdb {
 namespace {
 
-openvdb::Coord ovdbCoord(const Coord& ijk) {
-    return openvdb::Coord(ijk[0], ijk[1], ijk[2]);
-}
-openvdb::CoordBBox ovdbBox(const CoordBBox& b) {
-    return openvdb::CoordBBox(ovdbCoord(b.min()), ovdbCoord(b.max()));
-}
+using test::toOvdb;
 
 /// One of our standard trees and OpenVDB's tree of the same layout and value type.
 template <typename OursT, typename TheirsT>
@@ -46,15 +42,15 @@ struct TreePair {
 
     void setValue(const Coord& ijk, int v) {
         ours.setValue(ijk, value(v));
-        theirs.setValue(ovdbCoord(ijk), value(v));
+        theirs.setValue(toOvdb(ijk), value(v));
     }
     void setValueOff(const Coord& ijk, int v) {
         ours.setValueOff(ijk, value(v));
-        theirs.setValueOff(ovdbCoord(ijk), value(v));
+        theirs.setValueOff(toOvdb(ijk), value(v));
     }
     void fill(const CoordBBox& box, int v, bool active) {
         ours.fill(box, value(v), active);
-        theirs.fill(ovdbBox(box), value(v), active);
+        theirs.fill(toOvdb(box), value(v), active);
     }
     static ValueT value(int v) {
         if constexpr (std::is_same_v<ValueT, bool>) {
@@ -174,7 +170,7 @@ template <typename PairT>
                                              << " ours, " << theirs.leafCount() << " OpenVDB's";
     for (auto leaf = ours.cbeginLeaf(); leaf; ++leaf) {
         const Coord& o = leaf->origin();
-        const auto* other = theirs.probeConstLeaf(ovdbCoord(o));
+        const auto* other = theirs.probeConstLeaf(toOvdb(o));
         if (!other)
             return ::testing::AssertionFailure() << "OpenVDB has no leaf at " << o;
         for (Index n = 0; n < leaf->NUM_VALUES; ++n) {

@@ -9,6 +9,7 @@
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/Tree.h>
 
+#include <Oracles.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,16 +23,6 @@
 #include <vector>
 
 namespace vdb::test {
-
-/// Bitwise equality: -0 and 0 differ.
-template <typename T>
-bool sameBits(const T& a, const T& b) {
-    if constexpr (std::is_same_v<T, bool>) {
-        return a == b;
-    } else {
-        return std::memcmp(&a, &b, sizeof(T)) == 0;
-    }
-}
 
 /// One stored value of a tree: a voxel (level 0, dim 1) or a tile (its level and edge).
 template <typename ValueT>

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -32,6 +33,16 @@
 #include <vector>
 
 namespace vdb::test {
+
+/// Bitwise equality: -0 and 0 differ, and so do the payloads of NaNs.
+template <typename T>
+bool sameBits(const T& a, const T& b) {
+    if constexpr (std::is_same_v<T, bool>) {
+        return a == b;
+    } else {
+        return std::memcmp(&a, &b, sizeof(T)) == 0;
+    }
+}
 
 /// A well-mixed hash of a Coord for the models' hash maps (splitmix64 finalizer over all 96
 /// bits), independent of Coord::hash().
