@@ -222,6 +222,33 @@ TEST(SignedFloodFillRules, LeafScanlinesCarryTheLastActiveSign) {
     EXPECT_EQ(v(0, 0, 3), -0.5f);  // active values stay
 }
 
+TEST(SignedFloodFillRules, ScanlinesLongerThanAMaskWordCarryAcrossWords) {
+    // Leaves of edge 128: each z-line spans two 64-bit mask words.
+    using Tree128 = tree::Tree<tree::InternalNode<tree::LeafNode<float, 7>, 2>>;
+    Tree128 tree(1.0f);
+    tree.setValueOn(Coord(0, 0, 10), -0.5f);  // inside from here across the word boundary
+    tree.setValueOn(Coord(0, 0, 100), 0.5f);  // outside after this one
+    tree.setValueOn(Coord(0, 1, 63), 0.5f);   // active last voxel of the first word
+    tree.setValueOn(Coord(0, 2, 0), 0.5f);    // line (0, 2) starts outside,
+    tree.setValueOn(Coord(0, 2, 5), -0.5f);   // turns inside and stays so in the second word
+    tools::signedFloodFill(tree, false);
+    auto v = [&](Int32 y, Int32 z) { return tree.getValue(Coord(0, y, z)); };
+    EXPECT_EQ(v(0, 9), -1.0f);  // the leaf's first active voxel seeds the line
+    EXPECT_EQ(v(0, 63), -1.0f);
+    EXPECT_EQ(v(0, 64), -1.0f);
+    EXPECT_EQ(v(0, 99), -1.0f);
+    EXPECT_EQ(v(0, 101), 1.0f);
+    EXPECT_EQ(v(0, 127), 1.0f);
+    EXPECT_EQ(v(1, 62), -1.0f);  // line (0, 1) starts as line (0, 0) started
+    EXPECT_EQ(v(1, 64), 1.0f);   // the second word starts after an outside voxel
+    EXPECT_EQ(v(1, 127), 1.0f);
+    EXPECT_EQ(v(2, 3), 1.0f);
+    EXPECT_EQ(v(2, 63), -1.0f);
+    EXPECT_EQ(v(2, 64), -1.0f);  // carried across the word boundary
+    EXPECT_EQ(v(2, 127), -1.0f);
+    EXPECT_EQ(v(3, 70), 1.0f);  // line (0, 3) starts as line (0, 2) started
+}
+
 TEST(SignedFloodFillRules, LeavesAndNodesWithoutActiveValuesTakeTheirFirstSign) {
     FloatTree tree(1.0f);
     tree.setValueOff(Coord(0, 0, 0), -3.0f);  // first value negative, no active voxel

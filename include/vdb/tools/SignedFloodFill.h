@@ -22,9 +22,9 @@
 /// Active voxels and active tiles keep their values and never influence the scan of a tile
 /// level (OpenVDB overwrites the value of active tiles; here they are left alone).
 ///
-/// Cost: one pass over every leaf's values (a fill per run of inactive voxels) and over the
-/// tables of the internal nodes, plus a sort of the root's children. Results do not depend on
-/// the thread count.
+/// Cost: one pass over every leaf's value mask, a fill per run of inactive voxels (an active
+/// voxel is read only where such a run follows it), one pass over the tables of the internal
+/// nodes, plus a sort of the root's children. Results do not depend on the thread count.
 ///
 /// @code
 /// // Write the band's active voxels, then:
@@ -127,21 +127,21 @@ void floodFillLeaf(LeafT& leaf, const ValueT& outside, const ValueT& inside) {
             const Index row = x00 + (y << LOG2);
             if (mask.isOn(row))
                 yInside = data[row] < ValueT(0);
-            // Fill each run of inactive voxels with the sign of the active voxel before it.
+            // Fill each run of inactive voxels with the sign of the active voxel just before it
+            // (or the line's starting sign); active runs are skipped without reading them.
             bool zInside = yInside;
-            Index pos = row;
             for (Index c = 0; c < DIM; c += CHUNK) {
                 const Index base = row + c;
-                uint64_t bits = (words[base >> 6] >> (base & 63)) & CHUNK_MASK;
-                while (bits) {
-                    const Index p = base + Index(std::countr_zero(bits));
-                    bits &= bits - 1;
-                    std::fill(data + pos, data + p, zInside ? inside : outside);
-                    zInside = data[p] < ValueT(0);
-                    pos = p + 1;
+                uint64_t holes = ~(words[base >> 6] >> (base & 63)) & CHUNK_MASK;
+                while (holes) {
+                    const Index p = Index(std::countr_zero(holes));
+                    const Index q = p + Index(std::countr_one(holes >> p));
+                    if (p > 0 || (c > 0 && mask.isOn(base - 1)))
+                        zInside = data[base + p - 1] < ValueT(0);
+                    std::fill(data + base + p, data + base + q, zInside ? inside : outside);
+                    holes &= q >= 64 ? 0 : ~uint64_t(0) << q;
                 }
             }
-            std::fill(data + pos, data + row + DIM, zInside ? inside : outside);
         }
     }
 }
