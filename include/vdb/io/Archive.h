@@ -1,0 +1,476 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Trees in `.vdb` files: the topology section (root, internal nodes, leaf masks) and the
+/// buffers section (leaf values), FORMAT.md 1.7, 1.8 and 1.11; and the registry that maps the
+/// grid type strings of a file ("Tree_float_5_4_3") to the grid types of this library.
+///
+/// Writing encodes the leaves in parallel, in blocks whose bytes are concatenated in the
+/// tree's depth-first order, so the output does not depend on the thread count. Reading
+/// parses the topology serially, finds every leaf's bytes with a cheap serial skip, then
+/// decodes the leaves in parallel. Every count, length, origin and code is checked against
+/// the data before it is used (see ByteReader).
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Grid.h>
+#include <vdb/Types.h>
+#include <vdb/io/Compression.h>
+#include <vdb/io/Format.h>
+#include <vdb/math/Coord.h>
+#include <vdb/tree/TreeConfigs.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <typeinfo>
+#include <vector>
+
+namespace vdb::io {
+
+/// How a tree is written: the grid's compression flags (ZIP already cleared where the grid
+/// class asks for it) and whether real values are stored as halves.
+struct TreeWriteOptions {
+    uint32_t flags = COMPRESS_ACTIVE_MASK;
+    bool half = false;
+};
+
+/// How a tree is read: the grid's flags, the half flag and the file version.
+struct TreeReadOptions {
+    uint32_t flags = COMPRESS_ACTIVE_MASK;
+    bool half = false;
+    uint32_t fileVersion = FILE_VERSION;
+};
+
+/// What writing a tree tells the file writer: where the buffers start within the tree's bytes
+/// and, per leaf in file order, the mask-compression code and the size of its value chunk
+/// (the `file_delayed_load` table, FORMAT.md 1.12).
+struct TreeWriteInfo {
+    size_t buffersOffset = 0;
+    std::vector<int8_t> leafCodes;
+    std::vector<uint64_t> leafChunkBytes;
+};
+
+/// Appends the topology and buffers of `tree` (a tree with a RootNode on top).
+template <typename TreeT>
+TreeWriteInfo writeTree(ByteWriter& w, const TreeT& tree, const TreeWriteOptions& options);
+
+/// Reads the topology and buffers of a tree into `tree`, which must be empty.
+template <typename TreeT>
+void readTree(ByteReader& r, TreeT& tree, const TreeReadOptions& options);
+
+/// A grid type a file can hold, with the functions that create, write and read it.
+struct GridTypeIo {
+    std::string typeName;                      ///< the tree type string, e.g. "Tree_float_5_4_3"
+    const std::type_info* gridType = nullptr;  ///< typeid of the Grid class
+    bool hasDelayedLoadTable = false;          ///< whether files carry `file_delayed_load` for it
+    GridBase::Ptr (*create)() = nullptr;
+    TreeWriteInfo (*write)(ByteWriter&, const GridBase&, const TreeWriteOptions&) = nullptr;
+    void (*read)(ByteReader&, GridBase&, const TreeReadOptions&) = nullptr;
+    /// An identity of the grid's tree: grids that share a tree return the same pointer.
+    const void* (*treeIdentity)(const GridBase&) = nullptr;
+    /// Makes `instance` share the tree of `parent` (same type).
+    void (*shareTree)(GridBase& instance, const GridBase& parent) = nullptr;
+};
+
+/// The GridTypeIo of Grid<TreeT>.
+template <typename GridT>
+GridTypeIo makeGridTypeIo();
+
+/// The type that reads grids of type string `typeName` (without "_HalfFloat"), or null. The
+/// nine standard grid types (float, double, int32, int64, bool, mask, vec3s, vec3d, vec3i on
+/// [5,4,3] trees) are always registered.
+const GridTypeIo* findGridType(std::string_view typeName);
+/// The type that writes `grid` (found by its C++ type), or null when it is not registered.
+const GridTypeIo* findGridTypeOf(const GridBase& grid);
+/// Registers a grid type so files can hold it (for trees of other node dimensions, e.g.
+/// Grid<tree::HashTree432<float>>). It becomes the reader of its type string, replacing an
+/// earlier registration of the same string, and the writer of its C++ type.
+void registerGridType(const GridTypeIo& type);
+template <typename GridT>
+void registerGridType() {
+    registerGridType(makeGridTypeIo<GridT>());
+}
+
+// ---- Implementation ---------------------------------------------------------------------------
+
+namespace detail {
+
+template <typename NodeT>
+inline constexpr bool IS_BOOL_LEAF = std::is_same_v<typename NodeT::BuildType, bool>;
+template <typename NodeT>
+inline constexpr bool IS_MASK_LEAF = std::is_same_v<typename NodeT::BuildType, ValueMask>;
+
+template <typename MaskT>
+void writeMask(ByteWriter& w, const MaskT& mask) {
+    w.write(mask.words(), sizeof(typename MaskT::Word) * MaskT::WORD_COUNT);
+}
+template <typename MaskT>
+void readMask(ByteReader& r, MaskT& mask, std::string_view what) {
+    const auto bytes = r.take(sizeof(typename MaskT::Word) * MaskT::WORD_COUNT, what);
+    std::memcpy(mask.words(), bytes.data(), bytes.size());
+}
+
+inline void writeCoord(ByteWriter& w, const Coord& c) {
+    w.put(Int32(c[0]));
+    w.put(Int32(c[1]));
+    w.put(Int32(c[2]));
+}
+inline Coord readCoord(ByteReader& r, std::string_view what) {
+    const auto a = r.read<Int32>(what);
+    const auto b = r.read<Int32>(what);
+    const auto c = r.read<Int32>(what);
+    return Coord(a, b, c);
+}
+
+/// Writes the topology of internal node `node` and collects its leaves in file order.
+template <typename NodeT, typename LeafT>
+void writeInternalTopology(ByteWriter& w, const NodeT& node,
+                           const typename NodeT::ValueType& background,
+                           const TreeWriteOptions& options, std::vector<const LeafT*>& leaves,
+                           CodecScratch& scratch) {
+    using ValueT = typename NodeT::ValueType;
+    const auto& childMask = node.getChildMask();
+    const auto& valueMask = node.getValueMask();
+    writeMask(w, childMask);
+    writeMask(w, valueMask);
+    // A vector<bool> has no data(): an array it is.
+    const auto values = std::make_unique<ValueT[]>(NodeT::NUM_VALUES);
+    for (Index n = 0; n < NodeT::NUM_VALUES; ++n)
+        values[n] = childMask.isOn(n) ? ValueT{} : node.getTileValue(n);
+    writeCompressedValues(w, values.get(), valueMask, &childMask, background, options.half,
+                          options.flags, scratch);
+    for (Index n : childMask.onBits()) {
+        const auto* child = node.getChild(n);
+        if constexpr (NodeT::ChildNodeType::LEVEL == 0) {
+            writeMask(w, child->getValueMask());
+            leaves.push_back(child);
+        } else {
+            writeInternalTopology(w, *child, background, options, leaves, scratch);
+        }
+    }
+}
+
+/// Writes one leaf's buffer record; returns its code and chunk size.
+template <typename LeafT>
+ArrayInfo writeLeafBuffer(ByteWriter& w, const LeafT& leaf, const typename LeafT::ValueType& bg,
+                          const TreeWriteOptions& options, CodecScratch& scratch) {
+    writeMask(w, leaf.getValueMask());
+    if constexpr (IS_BOOL_LEAF<LeafT>) {
+        writeCoord(w, leaf.origin());
+        writeMask(w, leaf.buffer());
+        return {};
+    } else if constexpr (IS_MASK_LEAF<LeafT>) {
+        writeCoord(w, leaf.origin());
+        return {};
+    } else {
+        return writeCompressedValues(w, leaf.buffer(0).data(), leaf.getValueMask(),
+                                     static_cast<const typename LeafT::MaskType*>(nullptr), bg,
+                                     options.half, options.flags, scratch);
+    }
+}
+
+/// Topology read state shared by the levels of one tree.
+template <typename LeafT>
+struct TopologyReader {
+    ByteReader& r;
+    const TreeReadOptions& options;
+    typename LeafT::ValueType background;
+    std::vector<LeafT*> leaves;
+    CodecScratch scratch;
+};
+
+template <typename NodeT, typename LeafT>
+void readInternalTopology(TopologyReader<LeafT>& s, NodeT& node) {
+    using ValueT = typename NodeT::ValueType;
+    using ChildT = typename NodeT::ChildNodeType;
+    ByteReader& r = s.r;
+    typename NodeT::MaskType childMask, valueMask;
+    readMask(r, childMask, "internal node child mask");
+    readMask(r, valueMask, "internal node value mask");
+    const bool hasCode = s.options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
+    const Index count = hasCode ? NodeT::NUM_VALUES : childMask.countOff();
+    const auto values = std::make_unique<ValueT[]>(count);
+    readCompressedValues(r, values.get(), count, valueMask, s.background, s.options.half,
+                         s.options.flags, hasCode, s.scratch);
+    Index k = 0;
+    for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
+        if (childMask.isOn(n)) {
+            if (!hasCode)
+                continue;
+        } else {
+            node.setTile(n, values[hasCode ? n : k], valueMask.isOn(n));
+        }
+        ++k;
+    }
+    for (Index n : childMask.onBits()) {
+        const Coord origin = node.offsetToGlobalCoord(n);
+        if constexpr (ChildT::LEVEL == 0) {
+            auto leaf = std::make_unique<ChildT>(origin, s.background, false);
+            readMask(r, leaf->getValueMask(), "leaf value mask");
+            s.leaves.push_back(leaf.get());
+            node.setChild(n, leaf.release());
+        } else {
+            auto child = std::make_unique<ChildT>(origin, s.background, false);
+            ChildT* raw = child.get();
+            node.setChild(n, child.release());  // owned by the node from here on
+            readInternalTopology(s, *raw);
+        }
+    }
+}
+
+/// Skips one leaf's value array (FORMAT.md 1.8) without decoding it.
+template <typename LeafT>
+void skipLeafValues(ByteReader& r, const LeafT& leaf, const TreeReadOptions& options) {
+    using ValueT = typename LeafT::ValueType;
+    constexpr int C = HALF_COMPONENTS<ValueT>;
+    const bool hasCode = options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
+    int8_t code = 6;
+    if (hasCode) {
+        code = r.read<int8_t>("mask compression code");
+        if (code < 0 || code > 6)
+            r.fail("invalid mask compression code " + std::to_string(int(code)));
+        if (code == 2 || code == 4 || code == 5)
+            r.skip(sizeof(ValueT) * (code == 5 ? 2 : 1), "inactive values");
+        if (code >= 3 && code <= 5)
+            r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT,
+                   "selection mask");
+    }
+    const bool maskCompressed = (options.flags & COMPRESS_ACTIVE_MASK) && code != 6;
+    const uint64_t n = maskCompressed ? leaf.getValueMask().countOn() : LeafT::NUM_VALUES;
+    const bool half = C > 0 && options.half;
+    if (half && n == 0)
+        return;
+    const uint64_t bytes = half ? n * C * sizeof(uint16_t) : n * sizeof(ValueT);
+    if (options.flags & (COMPRESS_BLOSC | COMPRESS_ZIP)) {
+        const int64_t length = r.read<int64_t>("chunk length");
+        if (length == std::numeric_limits<int64_t>::min())
+            r.fail("invalid chunk length");
+        r.skip(uint64_t(length < 0 ? -length : length), "value chunk");
+    } else {
+        r.skip(bytes, "uncompressed values");
+    }
+}
+
+/// Reads one leaf's buffer record starting at the reader's position.
+template <typename LeafT>
+void readLeafBuffer(ByteReader& r, LeafT& leaf, const typename LeafT::ValueType& background,
+                    const TreeReadOptions& options, CodecScratch& scratch) {
+    // The value mask is repeated here; the topology's copy is the one kept (as OpenVDB does
+    // for files).
+    r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT, "leaf mask");
+    const bool hasCode = options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
+    if constexpr (IS_BOOL_LEAF<LeafT> || IS_MASK_LEAF<LeafT>) {
+        if (readCoord(r, "leaf origin") != leaf.origin())
+            r.fail("leaf origin differs from the topology's");
+        if constexpr (IS_BOOL_LEAF<LeafT>)
+            readMask(r, leaf.buffer(), "bool leaf values");
+    } else if (!hasCode) {
+        if (readCoord(r, "leaf origin") != leaf.origin())
+            r.fail("leaf origin differs from the topology's");
+        const int8_t buffers = r.read<int8_t>("leaf buffer count");
+        if (buffers < 1)
+            r.fail("leaf buffer count " + std::to_string(int(buffers)));
+        readCompressedValues(r, leaf.buffer(0).data(), LeafT::NUM_VALUES, leaf.getValueMask(),
+                             background, options.half, options.flags, false, scratch);
+        // Older files could hold extra temporal buffers: read and drop them.
+        const auto extra = std::make_unique<typename LeafT::ValueType[]>(LeafT::NUM_VALUES);
+        for (int b = 1; b < buffers; ++b) {
+            readCompressedValues(r, extra.get(), LeafT::NUM_VALUES, leaf.getValueMask(), background,
+                                 options.half, options.flags, false, scratch);
+        }
+    } else {
+        readCompressedValues(r, leaf.buffer(0).data(), LeafT::NUM_VALUES, leaf.getValueMask(),
+                             background, options.half, options.flags, true, scratch);
+    }
+}
+
+/// Finds where the next leaf record ends, without decoding it.
+template <typename LeafT>
+void skipLeafBuffer(ByteReader& r, const LeafT& leaf, const TreeReadOptions& options) {
+    r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT, "leaf mask");
+    const bool hasCode = options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
+    if constexpr (IS_BOOL_LEAF<LeafT>) {
+        r.skip(12 + sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT,
+               "bool leaf");
+    } else if constexpr (IS_MASK_LEAF<LeafT>) {
+        r.skip(12, "mask leaf origin");
+    } else if (!hasCode) {
+        r.skip(12, "leaf origin");
+        const int8_t buffers = r.read<int8_t>("leaf buffer count");
+        if (buffers < 1)
+            r.fail("leaf buffer count " + std::to_string(int(buffers)));
+        for (int b = 0; b < buffers; ++b)
+            skipLeafValues(r, leaf, options);
+    } else {
+        skipLeafValues(r, leaf, options);
+    }
+}
+
+}  // namespace detail
+
+template <typename TreeT>
+TreeWriteInfo writeTree(ByteWriter& w, const TreeT& tree, const TreeWriteOptions& options) {
+    using RootT = typename TreeT::TopNodeType;
+    using ChildT = typename RootT::ChildNodeType;
+    using LeafT = typename TreeT::LeafNodeType;
+    using ValueT = typename TreeT::ValueType;
+    static_assert(!TreeT::BOUNDED, "only trees with a RootNode on top have a file layout");
+    const size_t start = w.pos();
+    const RootT& root = tree.topNode();
+    const ValueT& background = tree.background();
+    detail::CodecScratch scratch;
+
+    w.put(Int32(1));  // buffer count
+    detail::writeValue(w, options.half ? detail::roundToHalf(background) : background);
+    std::vector<Coord> tiles, children;
+    for (const Coord& key : root.sortedKeys())
+        (root.findEntry(key)->child ? children : tiles).push_back(key);
+    w.put(uint32_t(tiles.size()));
+    w.put(uint32_t(children.size()));
+    for (const Coord& key : tiles) {
+        const auto* e = root.findEntry(key);
+        detail::writeCoord(w, key);
+        detail::writeValue(w, e->tile);  // root tiles keep full precision, even in half grids
+        w.putBool(e->active);
+    }
+    std::vector<const LeafT*> leaves;
+    for (const Coord& key : children) {
+        detail::writeCoord(w, key);
+        detail::writeInternalTopology(w, *static_cast<const ChildT*>(root.findEntry(key)->child),
+                                      background, options, leaves, scratch);
+    }
+
+    TreeWriteInfo info;
+    info.buffersOffset = w.pos() - start;
+    info.leafCodes.resize(leaves.size());
+    info.leafChunkBytes.resize(leaves.size());
+    // Leaves in blocks, each encoded into its own buffer, then appended in order.
+    constexpr size_t BLOCK = 64;
+    const size_t blocks = (leaves.size() + BLOCK - 1) / BLOCK;
+    std::vector<std::vector<uint8_t>> out(blocks);
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& range) {
+            detail::CodecScratch local;
+            for (size_t b = range.begin(); b != range.end(); ++b) {
+                ByteWriter bw(out[b]);
+                const size_t end = std::min(leaves.size(), (b + 1) * BLOCK);
+                for (size_t i = b * BLOCK; i < end; ++i) {
+                    const auto a =
+                        detail::writeLeafBuffer(bw, *leaves[i], background, options, local);
+                    info.leafCodes[i] = a.code;
+                    info.leafChunkBytes[i] = a.dataBytes;
+                }
+            }
+        });
+    size_t total = 0;
+    for (const auto& o : out)
+        total += o.size();
+    w.buffer().reserve(w.buffer().size() + total);
+    for (auto& o : out) {
+        w.write(o);
+        std::vector<uint8_t>().swap(o);
+    }
+    return info;
+}
+
+template <typename TreeT>
+void readTree(ByteReader& r, TreeT& tree, const TreeReadOptions& options) {
+    using RootT = typename TreeT::TopNodeType;
+    using ChildT = typename RootT::ChildNodeType;
+    using LeafT = typename TreeT::LeafNodeType;
+    using ValueT = typename TreeT::ValueType;
+    static_assert(!TreeT::BOUNDED, "only trees with a RootNode on top have a file layout");
+
+    const Int32 bufferCount = r.read<Int32>("tree buffer count");
+    if (bufferCount != 1)
+        r.fail("tree buffer count " + std::to_string(bufferCount) + " (1 expected)");
+    const ValueT background = detail::readValue<ValueT>(r, "background");
+    tree.setBackground(background);
+    RootT& root = tree.topNode();
+
+    const uint32_t numTiles = r.read<uint32_t>("root tile count");
+    const uint32_t numChildren = r.read<uint32_t>("root child count");
+    constexpr uint64_t TILE_BYTES = 12 + sizeof(ValueT) + 1;
+    r.checkedCount(numTiles, TILE_BYTES, "root tile");
+    // A child holds at least its origin and two node masks.
+    r.checkedCount(numChildren, 12 + 2 * (ChildT::NUM_VALUES / 8), "root child");
+    constexpr Int32 CHILD_LOW = Int32(ChildT::DIM - 1);
+    const auto checkKey = [&](const Coord& key, const char* what) {
+        const std::string at = std::string(what) + " origin (" + std::to_string(key[0]) + ", " +
+                               std::to_string(key[1]) + ", " + std::to_string(key[2]) + ")";
+        if ((key[0] & CHILD_LOW) || (key[1] & CHILD_LOW) || (key[2] & CHILD_LOW))
+            r.fail(at + " is not a multiple of " + std::to_string(ChildT::DIM));
+        if (root.findEntry(key))
+            r.fail(at + " appears twice");
+    };
+    for (uint32_t i = 0; i < numTiles; ++i) {
+        const Coord key = detail::readCoord(r, "root tile origin");
+        const ValueT value = detail::readValue<ValueT>(r, "root tile value");
+        const bool active = r.readBool("root tile state");
+        checkKey(key, "root tile");
+        root.setTile(key, value, active);
+    }
+    detail::TopologyReader<LeafT> state{r, options, background, {}, {}};
+    for (uint32_t i = 0; i < numChildren; ++i) {
+        const Coord key = detail::readCoord(r, "root child origin");
+        checkKey(key, "root child");
+        auto child = std::make_unique<ChildT>(key, background, false);
+        ChildT* raw = child.get();
+        root.setChild(child.release());
+        detail::readInternalTopology(state, *raw);
+    }
+
+    // Buffers: find each leaf's record serially, then decode them in parallel.
+    auto& leaves = state.leaves;
+    std::vector<size_t> starts(leaves.size() + 1);
+    for (size_t i = 0; i < leaves.size(); ++i) {
+        starts[i] = r.pos();
+        detail::skipLeafBuffer(r, *leaves[i], options);
+    }
+    starts[leaves.size()] = r.pos();
+    const ValueT fileBackground = background;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 32),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                          detail::CodecScratch local;
+                          for (size_t i = range.begin(); i != range.end(); ++i) {
+                              // Each leaf reads only its own bytes.
+                              ByteReader lr(r.bytes().first(starts[i + 1]), r.source());
+                              lr.seek(starts[i]);
+                              detail::readLeafBuffer(lr, *leaves[i], fileBackground, options,
+                                                     local);
+                          }
+                      });
+}
+
+template <typename GridT>
+GridTypeIo makeGridTypeIo() {
+    using TreeT = typename GridT::TreeType;
+    using ValueT = typename TreeT::BuildType;
+    GridTypeIo t;
+    t.typeName = GridT::gridType();
+    t.gridType = &typeid(GridT);
+    t.hasDelayedLoadTable = !std::is_same_v<ValueT, bool> && !std::is_same_v<ValueT, ValueMask>;
+    t.create = []() -> GridBase::Ptr { return GridT::create(); };
+    t.write = [](ByteWriter& w, const GridBase& g, const TreeWriteOptions& o) {
+        return writeTree(w, static_cast<const GridT&>(g).tree(), o);
+    };
+    t.read = [](ByteReader& r, GridBase& g, const TreeReadOptions& o) {
+        readTree(r, static_cast<GridT&>(g).tree(), o);
+    };
+    t.treeIdentity = [](const GridBase& g) -> const void* {
+        return &static_cast<const GridT&>(g).tree();
+    };
+    t.shareTree = [](GridBase& instance, const GridBase& parent) {
+        static_cast<GridT&>(instance).setTree(static_cast<const GridT&>(parent).treePtr());
+    };
+    return t;
+}
+
+}  // namespace vdb::io

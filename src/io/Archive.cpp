@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: Apache-2.0
+// The grid type registry of io/Archive.h, holding the nine standard grid types from the start,
+// and the one instantiation of their tree readers and writers.
+
+#include <vdb/io/Archive.h>
+
+#include <map>
+#include <mutex>
+#include <string>
+#include <typeindex>
+
+namespace vdb::io {
+namespace {
+
+struct Registry {
+    std::mutex mutex;
+    std::map<std::string, GridTypeIo, std::less<>> types;  // readers, by type string
+    std::map<std::type_index, GridTypeIo> writers;         // writers, by C++ grid type
+
+    Registry() {
+        for (const GridTypeIo& t :
+             {makeGridTypeIo<FloatGrid>(), makeGridTypeIo<DoubleGrid>(),
+              makeGridTypeIo<Int32Grid>(), makeGridTypeIo<Int64Grid>(), makeGridTypeIo<BoolGrid>(),
+              makeGridTypeIo<MaskGrid>(), makeGridTypeIo<Vec3SGrid>(), makeGridTypeIo<Vec3DGrid>(),
+              makeGridTypeIo<Vec3IGrid>()}) {
+            types.emplace(t.typeName, t);
+            writers.emplace(std::type_index(*t.gridType), t);
+        }
+    }
+};
+
+Registry& registry() {
+    static Registry r;
+    return r;
+}
+
+}  // namespace
+
+const GridTypeIo* findGridType(std::string_view typeName) {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    auto it = r.types.find(typeName);
+    // Entries are never erased, only replaced in place, so the pointer stays valid.
+    return it == r.types.end() ? nullptr : &it->second;
+}
+
+const GridTypeIo* findGridTypeOf(const GridBase& grid) {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    auto it = r.writers.find(std::type_index(typeid(grid)));
+    return it == r.writers.end() ? nullptr : &it->second;
+}
+
+void registerGridType(const GridTypeIo& type) {
+    Registry& r = registry();
+    std::lock_guard lock(r.mutex);
+    r.types.insert_or_assign(type.typeName, type);
+    r.writers.insert_or_assign(std::type_index(*type.gridType), type);
+}
+
+}  // namespace vdb::io

@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Test support for file tests: a grid filled with a random mix of active and inactive voxels
+/// and tiles at every level, and a flat listing of a tree's contents (every voxel and tile with
+/// its box, state and value) that two trees, or a tree and an OpenVDB tree, can be compared by.
+
+#pragma once
+
+#include <vdb/Grid.h>
+#include <vdb/math/Half.h>
+
+#include <algorithm>
+#include <cstring>
+#include <random>
+#include <tuple>
+#include <type_traits>
+#include <vector>
+
+namespace vdb::test {
+
+/// One value of a tree: a voxel (level 0) or a tile, as the all-values iterator yields it.
+template <typename ValueT>
+struct ContentItem {
+    Coord min, max;
+    int level = 0;
+    bool active = false;
+    ValueT value{};
+};
+
+/// Every value the tree stores (voxels and tiles, active or not), sorted by box.
+template <typename TreeT>
+auto treeContents(const TreeT& tree) {
+    using ValueT = typename TreeT::ValueType;
+    std::vector<ContentItem<ValueT>> items;
+    for (auto it = tree.cbeginValueAll(); it; ++it) {
+        CoordBBox box;
+        it.getBoundingBox(box);
+        items.push_back({box.min(), box.max(), int(it.getLevel()), it.isValueOn(), it.getValue()});
+    }
+    std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) {
+        return std::tie(a.min, a.level) < std::tie(b.min, b.level);
+    });
+    return items;
+}
+
+template <typename T>
+bool sameValueBits(const T& a, const T& b) {
+    if constexpr (std::is_same_v<T, bool>)
+        return a == b;
+    else
+        return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+/// A deterministic random value of T.
+template <typename T>
+T randomValue(std::mt19937& rng) {
+    std::uniform_real_distribution<double> real(-100.0, 100.0);
+    std::uniform_int_distribution<int> integer(-1000000, 1000000);
+    if constexpr (std::is_same_v<T, bool>) {
+        return (rng() & 1) != 0;
+    } else if constexpr (std::is_floating_point_v<T>) {
+        return T(real(rng));
+    } else if constexpr (std::is_integral_v<T>) {
+        return T(integer(rng)) * (sizeof(T) == 8 ? T(1000003) : T(1));
+    } else if constexpr (std::is_same_v<T, Vec3i>) {
+        return Vec3i(integer(rng), integer(rng), integer(rng));
+    } else {
+        using S = typename T::ValueType;
+        return T(S(real(rng)), S(real(rng)), S(real(rng)));
+    }
+}
+
+/// Fills `grid` with: random active and inactive voxels spread over leaves and the two upper
+/// nodes on either side of x = 0; a few inactive runs of one other value (so leaves need
+/// each mask-compression case); an active and an inactive tile at each internal level; an
+/// active and an inactive root tile.
+template <typename GridT>
+void fillTestGrid(GridT& grid, unsigned seed) {
+    using ValueT = typename GridT::ValueType;
+    std::mt19937 rng(seed);
+    auto& tree = grid.tree();
+    auto acc = grid.getAccessor();
+    std::uniform_int_distribution<int> coord(-60, 60), positive(0, 120);
+    const ValueT other = randomValue<ValueT>(rng);
+    for (int i = 0; i < 300; ++i) {
+        const Coord ijk(coord(rng), positive(rng), positive(rng));
+        const int kind = int(rng() % 4);
+        if (kind == 0)
+            acc.setValueOff(ijk, randomValue<ValueT>(rng));
+        else if (kind == 1)
+            acc.setValueOff(ijk, other);
+        else
+            acc.setValueOn(ijk, randomValue<ValueT>(rng));
+    }
+    // A dense leaf and a leaf whose inactive voxels hold -background and background.
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j)
+            for (int k = 0; k < 8; ++k)
+                acc.setValueOn(Coord(400 + i, 400 + j, 400 + k), randomValue<ValueT>(rng));
+    // Tiles: one leaf-sized and one lower-node-sized region, active and inactive.
+    tree.fill(CoordBBox::createCube(Coord(512, 0, 0), 8), randomValue<ValueT>(rng), true);
+    tree.fill(CoordBBox::createCube(Coord(520, 0, 0), 8), randomValue<ValueT>(rng), false);
+    tree.fill(CoordBBox::createCube(Coord(640, 0, 0), 128), randomValue<ValueT>(rng), true);
+    tree.fill(CoordBBox::createCube(Coord(768, 0, 0), 128), randomValue<ValueT>(rng), false);
+    // Root tiles (whole 4096^3 regions).
+    tree.topNode().setTile(Coord(8192, 0, 0), randomValue<ValueT>(rng), true);
+    tree.topNode().setTile(Coord(-8192, 4096, 0), randomValue<ValueT>(rng), false);
+}
+
+}  // namespace vdb::test
