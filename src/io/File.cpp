@@ -572,7 +572,6 @@ std::vector<UnsupportedGrid> File::unsupportedGrids() const {
 
 namespace {
 GridPtrVecPtr readAll(const File::Impl& impl, bool withTree) {
-    std::vector<const void*> order;
     std::map<std::string, GridBase::Ptr> loaded;
     auto out = std::make_shared<GridPtrVec>();
     std::vector<std::pair<std::string, GridBase::Ptr>> named;

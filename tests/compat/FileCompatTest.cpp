@@ -9,6 +9,7 @@
 
 #include "OpenVdbConvert.h"
 #include <GridContents.h>
+#include <Oracles.h>
 #include <gtest/gtest.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
@@ -23,19 +24,10 @@
 namespace vdb {
 namespace {
 
-namespace fs = std::filesystem;
-
 std::string tempPath(const std::string& name) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("vdb_compat_io_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return (dir / name).string();
+    return test::tempPath("vdb_compat_io_", name);
 }
-
-std::vector<uint8_t> fileBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
+using test::fileBytes;
 
 /// The same value in the other library (identical memory layout).
 template <typename To, typename From>
@@ -48,6 +40,31 @@ To sameBitsAs(const From& v) {
         std::memcpy(static_cast<void*>(&out), &v, sizeof(To));
         return out;
     }
+}
+
+/// The same contents as an OpenVDB grid: every voxel and tile, added at its level; same name,
+/// uniform voxel size.
+template <typename TheirGrid, typename OurGrid>
+typename TheirGrid::Ptr toOpenVdbGrid(const OurGrid& grid) {
+    using TheirValue = typename TheirGrid::ValueType;
+    auto out = TheirGrid::create(sameBitsAs<TheirValue>(grid.background()));
+    auto& tree = out->tree();
+    auto acc = out->getAccessor();
+    for (const auto& item : test::treeContents(grid.tree())) {
+        const auto v = sameBitsAs<TheirValue>(item.value);
+        const openvdb::Coord ijk(item.min[0], item.min[1], item.min[2]);
+        if (item.level == 0) {
+            if (item.active)
+                acc.setValueOn(ijk, v);
+            else
+                acc.setValueOff(ijk, v);
+        } else {
+            tree.addTile(openvdb::Index(item.level), ijk, v, item.active);
+        }
+    }
+    out->setName(grid.getName());
+    out->setTransform(openvdb::math::Transform::createLinearTransform(grid.voxelSize()[0]));
+    return out;
 }
 
 template <typename Ours, typename Theirs>
@@ -72,26 +89,8 @@ protected:
 
     static void SetUpTestSuite() { openvdb::initialize(); }
 
-    /// The same contents as an OpenVDB grid: every voxel and tile, added at its level.
     static typename TheirGrid::Ptr toOpenVdb(const OurGrid& grid) {
-        auto out = TheirGrid::create(sameBitsAs<TheirValue>(grid.background()));
-        auto& tree = out->tree();
-        auto acc = out->getAccessor();
-        for (const auto& item : test::treeContents(grid.tree())) {
-            const auto v = sameBitsAs<TheirValue>(item.value);
-            const openvdb::Coord ijk(item.min[0], item.min[1], item.min[2]);
-            if (item.level == 0) {
-                if (item.active)
-                    acc.setValueOn(ijk, v);
-                else
-                    acc.setValueOff(ijk, v);
-            } else {
-                tree.addTile(openvdb::Index(item.level), ijk, v, item.active);
-            }
-        }
-        out->setName(grid.getName());
-        out->setTransform(openvdb::math::Transform::createLinearTransform(grid.voxelSize()[0]));
-        return out;
+        return toOpenVdbGrid<TheirGrid>(grid);
     }
 
     /// OpenVDB's grid listed as this library lists its own.
@@ -116,7 +115,7 @@ protected:
             return ::testing::AssertionFailure() << a.size() << " vs " << b.size() << " values";
         for (size_t i = 0; i < a.size(); ++i) {
             if (a[i].min != b[i].min || a[i].max != b[i].max || a[i].level != b[i].level ||
-                a[i].active != b[i].active || !test::sameValueBits(a[i].value, b[i].value)) {
+                a[i].active != b[i].active || !test::sameBits(a[i].value, b[i].value)) {
                 return ::testing::AssertionFailure() << "value " << i << " at " << a[i].min
                                                      << " (level " << a[i].level << ") differs";
             }
@@ -226,18 +225,7 @@ TEST(FileCompatBytes, WithoutCodecsBothLibrariesWriteTheSameBytes) {
     test::fillTestGrid(*ours, 23);
     ours->setName("density");
     ours->setGridClass(GRID_FOG_VOLUME);
-    // OpenVDB's copy of the same contents.
-    auto theirs = openvdb::FloatGrid::create(2.0f);
-    for (const auto& item : test::treeContents(ours->tree())) {
-        const openvdb::Coord ijk(item.min[0], item.min[1], item.min[2]);
-        if (item.level == 0) {
-            theirs->tree().setValueOnly(ijk, item.value);
-            theirs->tree().setActiveState(ijk, item.active);
-        } else {
-            theirs->tree().addTile(openvdb::Index(item.level), ijk, item.value, item.active);
-        }
-    }
-    theirs->setName("density");
+    auto theirs = toOpenVdbGrid<openvdb::FloatGrid>(*ours);
     theirs->setGridClass(openvdb::GRID_FOG_VOLUME);
     for (uint32_t flags : {io::COMPRESS_NONE, io::COMPRESS_ACTIVE_MASK}) {
         for (bool half : {false, true}) {

@@ -10,9 +10,7 @@
 #include <GridContents.h>
 #include <Oracles.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -24,17 +22,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh path in the test's temporary folder.
 std::string tempPath(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("vdb_io_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return (dir / name).string();
+    return test::tempPath("vdb_io_test_", name);
 }
+using test::fileBytes;
 
-std::vector<uint8_t> fileBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
 void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
@@ -56,7 +48,7 @@ template <typename GridT>
     using ValueT = typename GridT::ValueType;
     using RootT = typename GridT::TreeType::TopNodeType;
     auto round = [&](const ValueT& v) { return half ? io::detail::roundToHalf(v) : v; };
-    if (!test::sameValueBits(round(a.background()), b.background()))
+    if (!test::sameBits(round(a.background()), b.background()))
         return ::testing::AssertionFailure() << "backgrounds differ";
     const auto ia = test::treeContents(a.tree());
     const auto ib = test::treeContents(b.tree());
@@ -68,7 +60,7 @@ template <typename GridT>
         const auto& y = ib[i];
         const ValueT expected = x.level == int(RootT::LEVEL) ? x.value : round(x.value);
         if (x.min != y.min || x.max != y.max || x.level != y.level || x.active != y.active ||
-            !test::sameValueBits(expected, y.value)) {
+            !test::sameBits(expected, y.value)) {
             return ::testing::AssertionFailure()
                    << "item " << i << " at " << x.min << " level " << x.level << " differs";
         }
@@ -85,7 +77,7 @@ TYPED_TEST_SUITE(FileRoundTrip, AllGrids);
 
 TYPED_TEST(FileRoundTrip, EveryCompressionAndHalfSetting) {
     using GridT = TypeParam;
-    auto grid = GridT::create(test::randomValue<typename GridT::ValueType>(*new std::mt19937(7)));
+    auto grid = GridT::create(test::randomValue<typename GridT::ValueType>(7u));
     test::fillTestGrid(*grid, 11);
     grid->setName("g");
     grid->insertMeta("note", std::string("round trip"));

@@ -1,22 +1,43 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
 /// Test support for file tests: a grid filled with a random mix of active and inactive voxels
-/// and tiles at every level, and a flat listing of a tree's contents (every voxel and tile with
-/// its box, state and value) that two trees, or a tree and an OpenVDB tree, can be compared by.
+/// and tiles at every level; a flat listing of a tree's contents (every voxel and tile with
+/// its box, state and value) that two trees, or a tree and an OpenVDB tree, can be compared by;
+/// and temporary files.
 
 #pragma once
 
 #include <vdb/Grid.h>
 #include <vdb/math/Half.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
+#include <string>
 #include <tuple>
 #include <type_traits>
 #include <vector>
 
 namespace vdb::test {
+
+/// A path named `name` in a folder of the system's temporary directory private to this
+/// process (`prefix` + process id).
+inline std::string tempPath(const std::string& prefix, const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+inline std::vector<uint8_t> fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
 
 /// One value of a tree: a voxel (level 0) or a tile, as the all-values iterator yields it.
 template <typename ValueT>
@@ -43,15 +64,7 @@ auto treeContents(const TreeT& tree) {
     return items;
 }
 
-template <typename T>
-bool sameValueBits(const T& a, const T& b) {
-    if constexpr (std::is_same_v<T, bool>)
-        return a == b;
-    else
-        return std::memcmp(&a, &b, sizeof(T)) == 0;
-}
-
-/// A deterministic random value of T.
+/// A random value of T drawn from `rng`.
 template <typename T>
 T randomValue(std::mt19937& rng) {
     std::uniform_real_distribution<double> real(-100.0, 100.0);
@@ -68,6 +81,13 @@ T randomValue(std::mt19937& rng) {
         using S = typename T::ValueType;
         return T(S(real(rng)), S(real(rng)), S(real(rng)));
     }
+}
+
+/// The first random value of T of a generator seeded with `seed`.
+template <typename T>
+T randomValue(unsigned seed) {
+    std::mt19937 rng(seed);
+    return randomValue<T>(rng);
 }
 
 /// Fills `grid` with: random active and inactive voxels spread over leaves and the two upper

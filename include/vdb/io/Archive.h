@@ -229,33 +229,10 @@ void readInternalTopology(TopologyReader<LeafT>& s, NodeT& node) {
 template <typename LeafT>
 void skipLeafValues(ByteReader& r, const LeafT& leaf, const TreeReadOptions& options) {
     using ValueT = typename LeafT::ValueType;
-    constexpr int C = HALF_COMPONENTS<ValueT>;
     const bool hasCode = options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
-    int8_t code = 6;
-    if (hasCode) {
-        code = r.read<int8_t>("mask compression code");
-        if (code < 0 || code > 6)
-            r.fail("invalid mask compression code " + std::to_string(int(code)));
-        if (code == 2 || code == 4 || code == 5)
-            r.skip(sizeof(ValueT) * (code == 5 ? 2 : 1), "inactive values");
-        if (code >= 3 && code <= 5)
-            r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT,
-                   "selection mask");
-    }
-    const bool maskCompressed = (options.flags & COMPRESS_ACTIVE_MASK) && code != 6;
-    const uint64_t n = maskCompressed ? leaf.getValueMask().countOn() : LeafT::NUM_VALUES;
-    const bool half = C > 0 && options.half;
-    if (half && n == 0)
-        return;
-    const uint64_t bytes = half ? n * C * sizeof(uint16_t) : n * sizeof(ValueT);
-    if (options.flags & (COMPRESS_BLOSC | COMPRESS_ZIP)) {
-        const int64_t length = r.read<int64_t>("chunk length");
-        if (length == std::numeric_limits<int64_t>::min())
-            r.fail("invalid chunk length");
-        r.skip(uint64_t(length < 0 ? -length : length), "value chunk");
-    } else {
-        r.skip(bytes, "uncompressed values");
-    }
+    const auto h = readArrayHeader(r, LeafT::NUM_VALUES, leaf.getValueMask(), ValueT{},
+                                   options.flags, hasCode);
+    skipData<ValueT>(r, h.valueCount, options.half, options.flags);
 }
 
 /// Reads one leaf's buffer record starting at the reader's position.
@@ -435,7 +412,6 @@ void readTree(ByteReader& r, TreeT& tree, const TreeReadOptions& options) {
         detail::skipLeafBuffer(r, *leaves[i], options);
     }
     starts[leaves.size()] = r.pos();
-    const ValueT fileBackground = background;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 32),
                       [&](const tbb::blocked_range<size_t>& range) {
                           detail::CodecScratch local;
@@ -443,8 +419,7 @@ void readTree(ByteReader& r, TreeT& tree, const TreeReadOptions& options) {
                               // Each leaf reads only its own bytes.
                               ByteReader lr(r.bytes().first(starts[i + 1]), r.source());
                               lr.seek(starts[i]);
-                              detail::readLeafBuffer(lr, *leaves[i], fileBackground, options,
-                                                     local);
+                              detail::readLeafBuffer(lr, *leaves[i], background, options, local);
                           }
                       });
 }

@@ -138,8 +138,8 @@ inline void writeChunk(ByteWriter& w, std::span<const uint8_t> raw, uint32_t fla
         w.put(int64_t(0));
         const size_t n = (flags & COMPRESS_BLOSC) ? bloscCompress(raw, out) : zipCompress(raw, out);
         // Blosc falls back to raw bytes only when it fails; zip whenever it does not shrink.
-        const bool raw_ = (flags & COMPRESS_BLOSC) ? n == 0 : n >= raw.size();
-        if (raw_) {
+        const bool storeRaw = (flags & COMPRESS_BLOSC) ? n == 0 : n >= raw.size();
+        if (storeRaw) {
             out.resize(lengthPos + sizeof(int64_t));
             w.patch(lengthPos, -int64_t(raw.size()));
             w.write(raw);
@@ -271,8 +271,8 @@ struct ArrayInfo {
 };
 
 /// Writes the value array of a node (FORMAT.md 1.8): `values` has MaskT::SIZE entries;
-/// `childMask` marks the slots of an internal node that hold children (their values are zero
-/// placeholders), null for leaves. `background` is the tree's full-precision background.
+/// `childMask` marks the slots of an internal node that hold children (the format stores a
+/// zero value there), null for leaves. `background` is the tree's full-precision background.
 template <typename ValueT, typename MaskT>
 ArrayInfo writeCompressedValues(ByteWriter& w, const ValueT* values, const MaskT& valueMask,
                                 const MaskT* childMask, const ValueT& background, bool half,
@@ -359,52 +359,89 @@ ArrayInfo writeCompressedValues(ByteWriter& w, const ValueT* values, const MaskT
     return info;
 }
 
-/// Reads a value array written by writeCompressedValues() into `out` (`count` entries: the
-/// mask's size, or for files before version 222 the number of non-child slots of an internal
-/// node). `background` is the background as stored in the file; `hasCode` is false before
-/// version 222.
+/// The part of a value array before its values (FORMAT.md 1.8): the code, the inactive values
+/// it implies or stores, the selection mask, and how many values the chunk holds.
+template <typename ValueT, typename MaskT>
+struct ArrayHeader {
+    MaskCode code = MaskCode::NoMaskAndAllVals;
+    ValueT inactive0{}, inactive1{};
+    MaskT selection;
+    Index valueCount = 0;
+    bool scattered = false;  // the chunk holds only the active values
+};
+
+/// Reads an array header. `count` is the array's length (the mask's size, or for files before
+/// version 222 the number of non-child slots of an internal node); `background` is the
+/// background as stored in the file; `hasCode` is false before version 222.
+template <typename ValueT, typename MaskT>
+ArrayHeader<ValueT, MaskT> readArrayHeader(ByteReader& r, Index count, const MaskT& valueMask,
+                                           const ValueT& background, uint32_t flags, bool hasCode) {
+    ArrayHeader<ValueT, MaskT> h;
+    if (hasCode) {
+        const int8_t code = r.read<int8_t>("mask compression code");
+        if (code < 0 || code > 6)
+            r.fail("invalid mask compression code " + std::to_string(int(code)));
+        h.code = MaskCode(code);
+    }
+    h.inactive1 = background;
+    h.inactive0 = h.code == MaskCode::NoMaskOrInactiveVals ? background : negativeOf(background);
+    if (h.code == MaskCode::NoMaskAndOneInactiveVal || h.code == MaskCode::MaskAndOneInactiveVal ||
+        h.code == MaskCode::MaskAndTwoInactiveVals) {
+        h.inactive0 = readValue<ValueT>(r, "inactive value");
+        if (h.code == MaskCode::MaskAndTwoInactiveVals)
+            h.inactive1 = readValue<ValueT>(r, "second inactive value");
+    }
+    if (h.code == MaskCode::MaskAndNoInactiveVals || h.code == MaskCode::MaskAndOneInactiveVal ||
+        h.code == MaskCode::MaskAndTwoInactiveVals) {
+        const auto bytes =
+            r.take(sizeof(typename MaskT::Word) * MaskT::WORD_COUNT, "selection mask");
+        std::memcpy(h.selection.words(), bytes.data(), bytes.size());
+    }
+    const bool maskCompressed =
+        (flags & COMPRESS_ACTIVE_MASK) && h.code != MaskCode::NoMaskAndAllVals;
+    h.valueCount = maskCompressed ? valueMask.countOn() : count;
+    h.scattered = maskCompressed && h.valueCount != count;
+    return h;
+}
+
+/// Skips `n` values written by writeData() without decoding them.
+template <typename ValueT>
+void skipData(ByteReader& r, size_t n, bool half, uint32_t flags) {
+    constexpr int C = HALF_COMPONENTS<ValueT>;
+    const bool halves = C > 0 && half;
+    if (halves && n == 0)
+        return;
+    if (flags & (COMPRESS_BLOSC | COMPRESS_ZIP)) {
+        const int64_t length = r.read<int64_t>("chunk length");
+        if (length == std::numeric_limits<int64_t>::min())
+            r.fail("invalid chunk length");
+        r.skip(uint64_t(length < 0 ? -length : length), "value chunk");
+    } else {
+        r.skip(halves ? n * C * sizeof(uint16_t) : n * sizeof(ValueT), "uncompressed values");
+    }
+}
+
+/// Reads a value array written by writeCompressedValues() into `out` (`count` entries; see
+/// readArrayHeader()).
 template <typename ValueT, typename MaskT>
 void readCompressedValues(ByteReader& r, ValueT* out, Index count, const MaskT& valueMask,
                           const ValueT& background, bool half, uint32_t flags, bool hasCode,
                           CodecScratch& scratch) {
-    int8_t code = int8_t(MaskCode::NoMaskAndAllVals);
-    if (hasCode) {
-        code = r.read<int8_t>("mask compression code");
-        if (code < 0 || code > 6)
-            r.fail("invalid mask compression code " + std::to_string(int(code)));
-    }
-    const auto mc = MaskCode(code);
-    ValueT inactive1 = background;
-    ValueT inactive0 = mc == MaskCode::NoMaskOrInactiveVals ? background : negativeOf(background);
-    if (mc == MaskCode::NoMaskAndOneInactiveVal || mc == MaskCode::MaskAndOneInactiveVal ||
-        mc == MaskCode::MaskAndTwoInactiveVals) {
-        inactive0 = readValue<ValueT>(r, "inactive value");
-        if (mc == MaskCode::MaskAndTwoInactiveVals)
-            inactive1 = readValue<ValueT>(r, "second inactive value");
-    }
-    MaskT selection;
-    if (mc == MaskCode::MaskAndNoInactiveVals || mc == MaskCode::MaskAndOneInactiveVal ||
-        mc == MaskCode::MaskAndTwoInactiveVals) {
-        const auto bytes =
-            r.take(sizeof(typename MaskT::Word) * MaskT::WORD_COUNT, "selection mask");
-        std::memcpy(selection.words(), bytes.data(), bytes.size());
-    }
-    const bool maskCompressed = (flags & COMPRESS_ACTIVE_MASK) && mc != MaskCode::NoMaskAndAllVals;
-    const Index n = maskCompressed ? valueMask.countOn() : count;
-    if (!maskCompressed || n == count) {
-        readData(r, out, n, half, flags, scratch);
+    const auto h = readArrayHeader(r, count, valueMask, background, flags, hasCode);
+    if (!h.scattered) {
+        readData(r, out, h.valueCount, half, flags, scratch);
         return;
     }
     auto& store = scratch.values;
-    store.resize(size_t(n) * sizeof(ValueT));
+    store.resize(size_t(h.valueCount) * sizeof(ValueT));
     auto* active = reinterpret_cast<ValueT*>(store.data());
-    readData(r, active, n, half, flags, scratch);
+    readData(r, active, h.valueCount, half, flags, scratch);
     Index k = 0;
     for (Index i = 0; i < count; ++i) {
         if (valueMask.isOn(i))
             std::memcpy(static_cast<void*>(out + i), active + k++, sizeof(ValueT));
         else
-            out[i] = selection.isOn(i) ? inactive1 : inactive0;
+            out[i] = h.selection.isOn(i) ? h.inactive1 : h.inactive0;
     }
 }
 

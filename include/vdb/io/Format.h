@@ -43,16 +43,17 @@ inline constexpr uint32_t WRITER_LIBRARY_MINOR = 0;
 
 /// A read cursor over bytes that all belong to one named source (a file name, for messages).
 /// Every accessor checks the remaining length first and throws IoError("<source>: <what>
-/// (at byte N)") when a read would cross the end.
+/// (at byte N)") when a read would cross the end. The reader views both the bytes and the
+/// name: they must outlive it (readers are made per leaf, so they copy nothing).
 class ByteReader {
 public:
-    ByteReader(std::span<const uint8_t> bytes, std::string source)
-        : mBytes(bytes), mSource(std::move(source)) {}
+    ByteReader(std::span<const uint8_t> bytes, std::string_view source)
+        : mBytes(bytes), mSource(source) {}
 
     size_t pos() const { return mPos; }
     size_t size() const { return mBytes.size(); }
     size_t remaining() const { return mBytes.size() - mPos; }
-    const std::string& source() const { return mSource; }
+    std::string_view source() const { return mSource; }
     std::span<const uint8_t> bytes() const { return mBytes; }
 
     /// Moves to absolute position `pos` (at most size()).
@@ -106,13 +107,14 @@ public:
     }
 
     [[noreturn]] void fail(const std::string& reason) const {
-        throw IoError(mSource + ": " + reason + " (at byte " + std::to_string(mPos) + ")");
+        throw IoError(std::string(mSource) + ": " + reason + " (at byte " + std::to_string(mPos) +
+                      ")");
     }
 
 private:
     std::span<const uint8_t> mBytes;
     size_t mPos = 0;
-    std::string mSource;
+    std::string_view mSource;
 };
 
 /// Appends little-endian raw values to a byte vector.
