@@ -211,16 +211,23 @@ TYPED_TEST(TreeIterator, LeafIteratorVisitsEveryLeafHoldingAnActiveVoxelOnce) {
     }
     EXPECT_EQ(origins.size(), tree.leafCount());
     EXPECT_TRUE(test::compareLeaves(tree, TypeParam::shape()));
+    // The active tiles, listed once (searching the tree per voxel is quadratic).
+    std::vector<CoordBBox> activeTiles;
+    for (auto it = tree.cbeginValueOn(); it; ++it) {
+        if (!it.isTileValue())
+            continue;
+        CoordBBox bbox;
+        it.getBoundingBox(bbox);
+        activeTiles.push_back(bbox);
+    }
     model.forEach([&](const Coord& ijk, float, bool active) {
         if (!active)
             return;
         const auto* leaf = tree.probeConstLeaf(ijk);
         if (leaf == nullptr) {
             // Then the voxel lies in a tile.
-            for (auto it = tree.cbeginValueOn(); it; ++it) {
-                CoordBBox bbox;
-                it.getBoundingBox(bbox);
-                if (it.isTileValue() && bbox.isInside(ijk))
+            for (const CoordBBox& bbox : activeTiles) {
+                if (bbox.isInside(ijk))
                     return;
             }
             ADD_FAILURE() << "active voxel " << ijk << " is in neither a leaf nor a tile";
