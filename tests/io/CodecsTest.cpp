@@ -24,7 +24,8 @@ using Bytes = std::vector<uint8_t>;
 
 Bytes floatBytes(const std::vector<float>& values) {
     Bytes bytes(values.size() * sizeof(float));
-    std::memcpy(bytes.data(), values.data(), bytes.size());
+    if (!bytes.empty())  // memcpy from an empty vector's null data() is undefined
+        std::memcpy(bytes.data(), values.data(), bytes.size());
     return bytes;
 }
 
