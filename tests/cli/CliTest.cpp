@@ -11,11 +11,9 @@
 #include <vdb/tools/Prune.h>
 
 #include "GridContents.h"
-#include <fcntl.h>
+#include "ToolRunner.h"
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,30 +21,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
-
-extern char** environ;
 
 namespace vdb {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Result {
-    int status = -1;  // exit status, or 128 + signal
-    std::string out;
-    std::string err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+using test::Result;
 
 class Cli : public ::testing::Test {
 protected:
@@ -62,40 +45,10 @@ protected:
 
     std::string path(const std::string& name) const { return (mDir / name).string(); }
 
-    /// Starts the tool with `args`, its output going to files of the test folder.
     pid_t spawn(const std::vector<std::string>& args) {
-        std::vector<std::string> argv{VDB_TOOL_PATH};
-        argv.insert(argv.end(), args.begin(), args.end());
-        std::vector<char*> cargv;
-        for (auto& a : argv)
-            cargv.push_back(a.data());
-        cargv.push_back(nullptr);
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-        posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, path("stdout.txt").c_str(),
-                                         O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, path("stderr.txt").c_str(),
-                                         O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        pid_t pid = -1;
-        const int rc = posix_spawn(&pid, VDB_TOOL_PATH, &actions, nullptr, cargv.data(), environ);
-        posix_spawn_file_actions_destroy(&actions);
-        EXPECT_EQ(rc, 0) << "cannot start " << VDB_TOOL_PATH;
-        return pid;
+        return test::spawnTool(VDB_TOOL_PATH, args, mDir.string());
     }
-
-    Result wait(pid_t pid) {
-        Result r;
-        int status = 0;
-        if (pid > 0 && ::waitpid(pid, &status, 0) == pid)
-            r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        r.out = slurp(path("stdout.txt"));
-        r.err = slurp(path("stderr.txt"));
-        fs::remove(path("stdout.txt"));
-        fs::remove(path("stderr.txt"));
-        return r;
-    }
-
+    Result wait(pid_t pid) { return test::waitTool(pid, mDir.string()); }
     Result run(const std::vector<std::string>& args) { return wait(spawn(args)); }
 
     /// Runs a command that must succeed.
