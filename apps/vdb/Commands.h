@@ -13,5 +13,7 @@ void addConvertCommand(CLI::App& app, Context& ctx);
 void addCsgCommand(CLI::App& app, Context& ctx);
 void addMorphCommands(CLI::App& app, Context& ctx);  // morph, floodfill, prune
 void addSphereCommand(CLI::App& app, Context& ctx);
+void addAdvectCommands(CLI::App& app, Context& ctx);  // advect, enright
+void addRenderCommand(CLI::App& app, Context& ctx);
 
 }  // namespace vdb::app

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
     addSphereCommand(app, ctx);
     addMorphCommands(app, ctx);
     addCsgCommand(app, ctx);
+    addAdvectCommands(app, ctx);
     addConvertCommand(app, ctx);
 
     std::string names;
