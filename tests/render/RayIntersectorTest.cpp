@@ -54,7 +54,8 @@ TEST(LevelSetRayIntersector, HitsASphereWithinAVigesimalOfAVoxel) {
         std::uniform_real_distribution<double> u(-1.0, 1.0);
         int hits = 0, misses = 0;
         double worstAngle = 0.0;
-        for (int n = 0; n < test::scaledBatchCount(3000); ++n) {
+        const int rays = test::scaledBatchCount(3000);
+        for (int n = 0; n < rays; ++n) {
             Vec3d dir(u(rng), u(rng), u(rng)), aim(u(rng), u(rng), u(rng));
             if (dir.length() < 0.1)
                 continue;
@@ -84,8 +85,9 @@ TEST(LevelSetRayIntersector, HitsASphereWithinAVigesimalOfAVoxel) {
             worstAngle = std::max(worstAngle, angle);
             ASSERT_LT(angle, 3.0 * kDegree) << ray;
         }
-        EXPECT_GT(hits, 100);
-        EXPECT_GT(misses, 100);
+        // Both outcomes are well represented (each is about a third or more of the rays).
+        EXPECT_GT(hits, rays / 30);
+        EXPECT_GT(misses, rays / 30);
         RecordProperty("worst normal angle (degrees)", std::to_string(worstAngle / kDegree));
     }
 }
@@ -145,7 +147,8 @@ TEST(LevelSetRayIntersector, HitsABoxOnItsFacesWithTheFaceNormal) {
     std::mt19937 rng(23);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     int hits = 0, misses = 0;
-    for (int n = 0; n < test::scaledBatchCount(2000); ++n) {
+    const int rays = test::scaledBatchCount(2000);
+    for (int n = 0; n < rays; ++n) {
         Vec3d dir(u(rng), u(rng), u(rng));
         if (dir.length() < 0.1)
             continue;
@@ -191,8 +194,8 @@ TEST(LevelSetRayIntersector, HitsABoxOnItsFacesWithTheFaceNormal) {
         }
         ASSERT_GT(normal.dot(face), std::cos(2.0 * kDegree)) << ray << " normal " << normal;
     }
-    EXPECT_GT(hits, 100);
-    EXPECT_GT(misses, 100);
+    EXPECT_GT(hits, rays / 20);
+    EXPECT_GT(misses, rays / 20);
 }
 
 TEST(LevelSetRayIntersector, RejectsGridsThatAreNotLevelSetsWithCubicVoxels) {
@@ -291,7 +294,8 @@ TEST(VolumeRenderer, TransmittanceOfAConstantBoxIsExponentialInTheLength) {
     std::mt19937 rng(37);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     int crossing = 0;
-    for (int n = 0; n < test::scaledBatchCount(300); ++n) {
+    const int rays = test::scaledBatchCount(300);
+    for (int n = 0; n < rays; ++n) {
         Vec3d dir(u(rng), u(rng), u(rng));
         if (dir.length() < 0.1)
             continue;
@@ -326,7 +330,7 @@ TEST(VolumeRenderer, TransmittanceOfAConstantBoxIsExponentialInTheLength) {
         ASSERT_GE(depth, expected - std::min(slack, expected)) << ray;
         crossing += length > 0.5;
     }
-    EXPECT_GT(crossing, 50);
+    EXPECT_GT(crossing, rays / 6);
     // Along an axis through voxel centres, the depth is that of the voxel count less a quarter
     // voxel (an eighth at each face), within the midpoint rule's error.
     const RayD axisRay(Vec3d(-5.0, 0.0, 0.0), Vec3d(1, 0, 0), 0.0);

@@ -225,7 +225,7 @@ void LevelSetAdvection<GridT, FieldT>::integrate(ValueType dt) {
         const int strides[3] = {Block::SX, Block::SY, 1};
         ValueType dot(0);
         for (int a = 0; a < 3; ++a) {
-            const auto line = detail::lineThrough(c, strides[a]);
+            const auto line = detail::lineThrough<R>(c, strides[a]);
             ValueType dm, dp;
             math::biasedDifferences<Scheme>(line.data(), dm, dp);
             dot += v[size_t(a)] * math::upwind(v[size_t(a)], dm, dp);

@@ -175,7 +175,7 @@ template <math::BiasedGradientScheme Scheme, typename ValueT>
 inline void allDifferences(const ValueT* c, int sx, int sy, ValueT (&d)[6]) {
     const int strides[3] = {sx, sy, 1};
     for (int a = 0; a < 3; ++a) {
-        const auto line = lineThrough(c, strides[a]);
+        const auto line = lineThrough<math::stencilRadius(Scheme)>(c, strides[a]);
         math::biasedDifferences<Scheme>(line.data(), d[2 * a], d[2 * a + 1]);
     }
 }

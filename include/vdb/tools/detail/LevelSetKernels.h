@@ -106,11 +106,15 @@ private:
     alignas(64) std::array<ValueT, size_t(S* S* S)> mData;
 };
 
-/// The 7 samples through `c` with stride `stride` (c[0] is the centre).
-template <typename ValueT>
+/// The 7 samples through `c` with stride `stride` (c[0] is the centre), reading only the
+/// `R` samples on either side that a stencil of radius R needs (a neighbourhood block of
+/// radius R holds no more); the unread outer entries repeat the outermost read sample.
+template <int R, typename ValueT>
 inline std::array<ValueT, 7> lineThrough(const ValueT* c, int stride) {
-    return {c[-3 * stride], c[-2 * stride], c[-stride],   c[0],
-            c[stride],      c[2 * stride],  c[3 * stride]};
+    static_assert(R >= 1 && R <= 3, "stencil radius 1 to 3");
+    constexpr int r1 = 1, r2 = R < 2 ? R : 2, r3 = R;
+    return {c[-r3 * stride], c[-r2 * stride], c[-r1 * stride], c[0],
+            c[r1 * stride],  c[r2 * stride],  c[r3 * stride]};
 }
 
 /// One Euler stage over the active voxels of every leaf: for each active voxel at offset n,
