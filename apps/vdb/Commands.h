@@ -15,5 +15,8 @@ void addMorphCommands(CLI::App& app, Context& ctx);  // morph, floodfill, prune
 void addSphereCommand(CLI::App& app, Context& ctx);
 void addAdvectCommands(CLI::App& app, Context& ctx);  // advect, enright
 void addRenderCommand(CLI::App& app, Context& ctx);
+void addMeshCommand(CLI::App& app, Context& ctx);
+void addSpheresCommand(CLI::App& app, Context& ctx);
+void addDemoCommand(CLI::App& app, Context& ctx);
 
 }  // namespace vdb::app

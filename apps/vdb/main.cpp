@@ -14,6 +14,10 @@
 namespace {
 
 const char* const kFooter = R"(Examples:
+  vdb demo                      (spheres and a mesh to level sets, CSG, .vdb, PNG)
+  vdb mesh bunny.ply -o bunny.vdb --resolution 512
+  vdb spheres -o helix.vdb --count 1000000
+  vdb render bunny.vdb -o bunny.png
   vdb sphere -o sphere.vdb --radius 1 --voxel-size 0.01
   vdb info sphere.vdb
   vdb morph dilate 2 sphere.vdb -o fat.vdb
@@ -41,7 +45,10 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", "vdb 0.1.0");
     app.footer(kFooter);
     Context ctx;
+    addDemoCommand(app, ctx);
     addInfoCommand(app, ctx);
+    addMeshCommand(app, ctx);
+    addSpheresCommand(app, ctx);
     addSphereCommand(app, ctx);
     addMorphCommands(app, ctx);
     addCsgCommand(app, ctx);

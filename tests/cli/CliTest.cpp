@@ -7,7 +7,9 @@
 #include <vdb/io/File.h>
 #include <vdb/tools/Composite.h>
 #include <vdb/tools/LevelSetSphere.h>
+#include <vdb/tools/MeshToVolume.h>
 #include <vdb/tools/Morphology.h>
+#include <vdb/tools/ParticlesToLevelSet.h>
 #include <vdb/tools/Prune.h>
 
 #include "GridContents.h"
@@ -17,8 +19,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -236,9 +240,195 @@ TEST_F(Cli, ConvertChangesStorageButNotTheGrid) {
     EXPECT_LT(fs::file_size(path("half.vdb")), fs::file_size(path("raw.vdb")));
 }
 
+/// The cube [-0.5, 0.5]^3 as 12 triangles in an OBJ file.
+void writeCubeObj(const std::string& file) {
+    std::ofstream obj(file);
+    for (int i = 0; i < 8; ++i)
+        obj << "v " << ((i & 1) ? 0.5 : -0.5) << ' ' << ((i & 2) ? 0.5 : -0.5) << ' '
+            << ((i & 4) ? 0.5 : -0.5) << '\n';
+    // Two triangles per face, counter-clockwise seen from outside (1-based indices).
+    const int faces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5},
+                             {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+    for (const auto& f : faces)
+        obj << "f " << f[0] << ' ' << f[1] << ' ' << f[2] << "\nf " << f[0] << ' ' << f[2] << ' '
+            << f[3] << '\n';
+}
+
+/// Signed distance to the cube [-0.5, 0.5]^3.
+double cubeDistance(const Vec3d& p) {
+    const Vec3d q(std::abs(p[0]) - 0.5, std::abs(p[1]) - 0.5, std::abs(p[2]) - 0.5);
+    const Vec3d outside(std::max(q[0], 0.0), std::max(q[1], 0.0), std::max(q[2], 0.0));
+    return outside.length() + std::min(std::max({q[0], q[1], q[2]}), 0.0);
+}
+
+/// Width and height from a PNG file's IHDR chunk; {0, 0} when it is not a PNG.
+std::pair<uint32_t, uint32_t> pngSize(const std::string& file) {
+    const auto bytes = test::fileBytes(file);
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (bytes.size() < 24 || !std::equal(signature, signature + 8, bytes.begin()) ||
+        std::string(bytes.begin() + 12, bytes.begin() + 16) != "IHDR")
+        return {0, 0};
+    const auto be32 = [&](size_t at) {
+        return uint32_t(uint8_t(bytes[at])) << 24 | uint32_t(uint8_t(bytes[at + 1])) << 16 |
+               uint32_t(uint8_t(bytes[at + 2])) << 8 | uint32_t(uint8_t(bytes[at + 3]));
+    };
+    return {be32(16), be32(20)};
+}
+
+/// The number after "key": in a JSON document (NaN when absent).
+double jsonNumber(const std::string& json, const std::string& key) {
+    const size_t at = json.find("\"" + key + "\":");
+    if (at == std::string::npos)
+        return std::nan("");
+    return std::strtod(json.c_str() + at + key.size() + 3, nullptr);
+}
+
+TEST_F(Cli, MeshGivesTheExactDistanceToACube) {
+    writeCubeObj(path("cube.obj"));
+    ok({"mesh", path("cube.obj"), "-o", path("cube.vdb"), "--voxel-size", "0.05", "--half-width",
+        "3", "--name", "cube"});
+    auto grid = gridPtrCast<FloatGrid>(readFirst(path("cube.vdb")));
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->getName(), "cube");
+    EXPECT_EQ(grid->getGridClass(), GRID_LEVEL_SET);
+    ASSERT_GT(grid->activeVoxelCount(), 1000u);
+    for (auto it = grid->tree().cbeginValueOn(); it; ++it) {
+        const Vec3d p = grid->transform().indexToWorld(it.getCoord());
+        ASSERT_NEAR(*it, cubeDistance(p), 1e-5) << it.getCoord();
+    }
+    // The centre is inside, far outside is outside.
+    EXPECT_LT(grid->tree().getValue(Coord(0)), 0.0f);
+    EXPECT_GT(grid->tree().getValue(Coord(40, 0, 0)), 0.0f);
+
+    // --resolution: voxels across the largest side; the robust sign agrees on a closed mesh.
+    ok({"mesh", path("cube.obj"), "-o", path("cube20.vdb"), "--resolution", "20", "--sign",
+        "robust"});
+    auto coarse = gridPtrCast<FloatGrid>(readFirst(path("cube20.vdb")));
+    ASSERT_TRUE(coarse);
+    EXPECT_NEAR(coarse->voxelSize()[0], 0.05, 1e-9);
+    expectSameVoxels(coarse->tree(), grid->tree());
+}
+
+TEST_F(Cli, SpheresFromAFileGiveTheDistanceToTheirUnion) {
+    const std::vector<std::array<double, 4>> spheres = {
+        {0.0, 0.0, 0.0, 0.5}, {0.6, 0.1, 0.0, 0.4}, {-0.3, 0.7, 0.2, 0.3}};
+    {
+        std::ofstream list(path("spheres.csv"));
+        list << "x,y,z,radius\n# three spheres\n";
+        for (const auto& s : spheres)
+            list << s[0] << ", " << s[1] << ", " << s[2] << ", " << s[3] << '\n';
+    }
+    ok({"spheres", "-o", path("s.vdb"), "--input", path("spheres.csv"), "--voxel-size", "0.05"});
+    auto grid = gridPtrCast<FloatGrid>(readFirst(path("s.vdb")));
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->getGridClass(), GRID_LEVEL_SET);
+    ASSERT_GT(grid->activeVoxelCount(), 1000u);
+    for (auto it = grid->tree().cbeginValueOn(); it; ++it) {
+        const Vec3d p = grid->transform().indexToWorld(it.getCoord());
+        double d = 1e30;
+        for (const auto& s : spheres)
+            d = std::min(d, (p - Vec3d(s[0], s[1], s[2])).length() - s[3]);
+        ASSERT_NEAR(*it, d, 1e-5) << it.getCoord();
+    }
+}
+
+TEST_F(Cli, SpheresOnTheHelixEqualTheLibrarysRasterization) {
+    ok({"spheres", "-o", path("helix.vdb"), "--count", "3000", "--radius", "0.02", "--voxel-size",
+        "0.01"});
+    auto grid = gridPtrCast<FloatGrid>(readFirst(path("helix.vdb")));
+    ASSERT_TRUE(grid);
+    auto expected = FloatGrid::create(0.03f);
+    expected->setTransform(math::Transform::createLinearTransform(0.01));
+    expected->setGridClass(GRID_LEVEL_SET);
+    tools::ParticlesToLevelSet<FloatGrid> raster(*expected);
+    const auto list = tools::torusKnotHelixSpheres(3000, 0.02f);
+    raster.rasterizeSpheres(list.positions, list.radii);
+    raster.finalize();
+    ASSERT_GT(expected->activeVoxelCount(), 10000u);
+    expectSameVoxels(grid->tree(), expected->tree());
+}
+
+TEST_F(Cli, DemoWritesTheUnionOfItsLevelSetsAndAPicture) {
+    const Result r = ok({"demo", "-o", mDir.string(), "--spheres", "5000", "--resolution", "128",
+                         "--width", "160", "--height", "120"});
+    EXPECT_NE(r.out.find("demo done"), std::string::npos) << r.out;
+    io::File in(path("demo.vdb"));
+    in.open();
+    auto helix = gridPtrCast<FloatGrid>(in.readGrid("helix"));
+    auto mesh = gridPtrCast<FloatGrid>(in.readGrid("mesh"));
+    auto both = gridPtrCast<FloatGrid>(in.readGrid("union"));
+    ASSERT_TRUE(helix && mesh && both);
+    ASSERT_GT(helix->activeVoxelCount(), 1000u);
+    ASSERT_GT(mesh->activeVoxelCount(), 1000u);
+    tools::csgUnion(*helix, *mesh);
+    expectSameVoxels(both->tree(), helix->tree());
+    EXPECT_EQ(pngSize(path("demo.png")), std::make_pair(160u, 120u));
+}
+
+TEST_F(Cli, AdvectMovesASphereByTheConstantVelocity) {
+    writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    ok({"advect", path("s.vdb"), "-o", path("moved.vdb"), "--field", "constant", "--velocity",
+        "1,0,0", "--time", "0.5"});
+    auto grid = gridPtrCast<FloatGrid>(readFirst(path("moved.vdb")));
+    ASSERT_TRUE(grid);
+    // The sphere of radius 1 now sits at (0.5, 0, 0): zero crossings at x = -0.5 and 1.5.
+    const auto& tree = grid->tree();
+    EXPECT_NEAR(tree.getValue(Coord(15, 0, 0)), 0.0f, 0.03f);
+    EXPECT_NEAR(tree.getValue(Coord(-5, 0, 0)), 0.0f, 0.03f);
+    EXPECT_NEAR(tree.getValue(Coord(5, 10, 0)), 0.0f, 0.03f);
+    EXPECT_LT(tree.getValue(Coord(5, 0, 0)), 0.0f);
+    EXPECT_GT(tree.getValue(Coord(-8, 0, 0)), 0.0f);
+}
+
+TEST_F(Cli, EnrightReportsFramesAndVolume) {
+    const Result r =
+        ok({"enright", "--resolution", "48", "--frames", "2", "--time", "0.2", "--json"});
+    const double loss = jsonNumber(r.out, "volumeLoss");
+    ASSERT_TRUE(std::isfinite(loss)) << r.out;
+    // A fifth of a second of a divergence-free field keeps the volume to a few percent.
+    EXPECT_LT(std::abs(loss), 0.05) << r.out;
+    EXPECT_NE(r.out.find("\"samples\""), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, BadGeometryInputsGiveOneErrorLineAndNoOutput) {
+    const std::string out = path("out.vdb");
+    {
+        std::ofstream bad(path("bad.obj"));
+        bad << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";  // index out of range
+    }
+    {
+        std::ofstream nan(path("nan.obj"));
+        nan << "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n";
+    }
+    {
+        std::ofstream list(path("bad.txt"));
+        list << "0 0 0 1\n1 2 three 1\n";
+    }
+    {
+        std::ofstream list(path("neg.txt"));
+        list << "0 0 0 -1\n";
+    }
+    writeCubeObj(path("cube.obj"));
+    fails({"mesh", path("missing.obj"), "-o", out, "--voxel-size", "0.1"}, 1, "missing.obj");
+    fails({"mesh", path("bad.obj"), "-o", out, "--voxel-size", "0.1"}, 1, "bad.obj");
+    fails({"mesh", path("nan.obj"), "-o", out, "--voxel-size", "0.1"}, 1, "nan.obj");
+    fails({"mesh", path("cube.obj"), "-o", out}, 2, "--voxel-size");
+    fails({"mesh", path("cube.obj"), "-o", out, "--voxel-size", "0.1", "--sign", "maybe"}, 2,
+          "maybe");
+    fails({"mesh", path("cube.obj"), "-o", out, "--voxel-size", "1e-7"}, 2, "memory");
+    fails({"spheres", "-o", out, "--input", path("bad.txt")}, 2, "bad.txt:2");
+    fails({"spheres", "-o", out, "--input", path("neg.txt")}, 2, "radius");
+    fails({"spheres", "-o", out, "--input", path("missing.txt")}, 2, "missing.txt");
+    fails({"spheres", "-o", out, "--count", "0"}, 2, "count");
+    fails({"demo", "-o", path("no/such/dir")}, 2, "does not exist");
+    fails({"advect", path("missing.vdb"), "-o", out, "--time", "1"}, 1, "missing.vdb");
+    fails({"enright", "--resolution", "4"}, 2, "resolution");
+}
+
 TEST_F(Cli, EveryCommandHasHelpWithExamples) {
     for (const std::string cmd :
-         {"info", "sphere", "morph", "floodfill", "prune", "csg", "convert"}) {
+         {"info", "sphere", "spheres", "mesh", "morph", "floodfill", "prune", "csg", "convert",
+          "advect", "enright", "render", "demo"}) {
         const Result r = ok({cmd, "--help"});
         EXPECT_NE(r.out.find("Example"), std::string::npos) << cmd;
         EXPECT_NE(r.out.find("--threads"), std::string::npos) << cmd;

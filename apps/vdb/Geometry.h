@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Geometry to level sets for the `mesh`, `spheres` and `demo` subcommands: each conversion
+/// runs as a timed report step after a memory check.
+
+#pragma once
+
+#include <vdb/meshio/MeshReader.h>
+#include <vdb/tools/MeshToVolume.h>
+#include <vdb/tools/ParticlesToLevelSet.h>
+
+#include "Cli.h"
+
+#include <string>
+
+namespace vdb::app {
+
+/// The world-space bounding box of the mesh's points.
+BBoxd meshBounds(const meshio::Mesh& mesh);
+
+/// A level set of `mesh` (signed as `sign` says) with voxels of `voxelSize` and a band of
+/// 2 * halfWidth voxels, converted as the report step "scan-convert N faces".
+FloatGrid::Ptr meshToGrid(Report& report, const meshio::Mesh& mesh, double voxelSize,
+                          float halfWidth, tools::MeshSign sign);
+
+/// A level set of the union of `spheres` with voxels of `voxelSize` and a band of
+/// 2 * halfWidth voxels, as the report step "rasterize N spheres"; notes how many spheres
+/// were too small for the voxels.
+FloatGrid::Ptr spheresToGrid(Report& report, const tools::SphereList& spheres, double voxelSize,
+                             float halfWidth);
+
+}  // namespace vdb::app
