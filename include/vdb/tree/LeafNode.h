@@ -217,7 +217,10 @@ public:
     /// Replaces the values by `record`, which will load them on first access.
     void setOutOfCore(std::unique_ptr<OutOfCore> record);
     /// Loads out-of-core values now; does nothing for values in memory.
-    void loadValues() const { (void)values(); }
+    void loadValues() const {
+        if (isOutOfCore())
+            (void)loadOutOfCore();
+    }
     /// Returns buffer `i`; buffer 0 holds the values the tree reads. @pre i < bufferCount()
     Buffer buffer(Index i = 0) {
         VDB_ASSERT(i < mBufferCount);
