@@ -24,7 +24,7 @@ typename GridT::Ptr smallGrid(const typename GridT::ValueType& a,
     for (int i = 0; i < 8; ++i)
         tree.setValueOn(vdb::Coord(16 + i, 16, 16 + i), i % 2 ? a : b);
     tree.fill(vdb::CoordBBox::createCube(vdb::Coord(64, 0, 0), 8), b, true);
-    tree.addTile(2, vdb::Coord(128, 0, 0), a, false);
+    tree.fill(vdb::CoordBBox::createCube(vdb::Coord(128, 0, 0), 128), a, false);
     tree.topNode().setTile(vdb::Coord(4096, 0, 0), b, true);
     grid->setName(grid->valueType());
     grid->insertMeta("note", std::string("seed"));
