@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
-/// Umbrella header: grids, trees, accessors, iterators, leaf manager and math. Tools live in
+/// Umbrella header: grids, trees, accessors, iterators, leaf manager, math and `.vdb` files
+/// (io::File). Tools live in
 /// <vdb/tools/NAME.h> and are included one by one.
 
 #pragma once
@@ -10,6 +11,7 @@
 #include <vdb/Metadata.h>
 #include <vdb/TypeName.h>
 #include <vdb/Types.h>
+#include <vdb/io/File.h>
 #include <vdb/math/BBox.h>
 #include <vdb/math/Coord.h>
 #include <vdb/math/Mat4.h>

@@ -1,9 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // The grid type registry of io/Archive.h, holding the nine standard grid types from the start,
-// and the one instantiation of their tree readers and writers.
+// the one instantiation of their tree readers and writers, and the file that out-of-core leaves
+// read from.
 
 #include <vdb/io/Archive.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <string>
@@ -35,6 +41,36 @@ Registry& registry() {
 }
 
 }  // namespace
+
+FileSource::FileSource(const std::string& path) : mPath(path) {
+    mFd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (mFd < 0)
+        throw IoError(path + ": cannot open: " + std::strerror(errno));
+}
+
+FileSource::~FileSource() {
+    if (mFd >= 0)
+        ::close(mFd);
+}
+
+void FileSource::read(uint64_t begin, uint64_t end, std::vector<uint8_t>& out) const {
+    if (end < begin)
+        throw IoError(mPath + ": invalid byte range");
+    out.resize(size_t(end - begin));
+    size_t done = 0;
+    while (done < out.size()) {
+        const ssize_t n = ::pread(mFd, out.data() + done, out.size() - done, off_t(begin + done));
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0)
+            throw IoError(mPath + ": cannot read: " + std::strerror(errno));
+        if (n == 0)
+            throw IoError(mPath + ": the file ends at byte " + std::to_string(begin + done) +
+                          ", before the " + std::to_string(end - begin) + " bytes at offset " +
+                          std::to_string(begin) + " (changed since it was opened?)");
+        done += size_t(n);
+    }
+}
 
 const GridTypeIo* findGridType(std::string_view typeName) {
     Registry& r = registry();

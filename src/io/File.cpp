@@ -317,32 +317,31 @@ std::string makeUuid() {
     throw IoError(path + ": " + what + ": " + std::strerror(errno));
 }
 
-/// The bytes of a file: memory-mapped, read-only.
+/// Bytes in the file behind `fd` now.
+uint64_t currentSize(int fd, const std::string& path) {
+    struct stat st {};
+    if (::fstat(fd, &st) != 0)
+        throwSystem(path, "cannot stat");
+    return uint64_t(st.st_size);
+}
+
+/// The bytes of an open file: memory-mapped, read-only.
 class MappedFile {
 public:
-    explicit MappedFile(const std::string& path) {
-        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-        if (fd < 0)
-            throwSystem(path, "cannot open");
+    explicit MappedFile(const FileSource& source) {
+        const std::string& path = source.path();
         struct stat st {};
-        if (::fstat(fd, &st) != 0) {
-            ::close(fd);
+        if (::fstat(source.fd(), &st) != 0)
             throwSystem(path, "cannot stat");
-        }
-        if (!S_ISREG(st.st_mode)) {
-            ::close(fd);
+        if (!S_ISREG(st.st_mode))
             throw IoError(path + ": not a regular file");
-        }
         mSize = size_t(st.st_size);
         if (mSize > 0) {
-            void* p = ::mmap(nullptr, mSize, PROT_READ, MAP_PRIVATE, fd, 0);
-            if (p == MAP_FAILED) {
-                ::close(fd);
+            void* p = ::mmap(nullptr, mSize, PROT_READ, MAP_PRIVATE, source.fd(), 0);
+            if (p == MAP_FAILED)
                 throwSystem(path, "cannot map");
-            }
             mData = static_cast<const uint8_t*>(p);
         }
-        ::close(fd);
     }
     ~MappedFile() {
         if (mData)
@@ -374,7 +373,9 @@ struct File::Impl {
     };
 
     std::string path;
+    std::shared_ptr<const FileSource> source;  // shared with out-of-core leaves
     std::unique_ptr<MappedFile> file;
+    bool delayedLoad = true;
     uint32_t version = 0;
     uint32_t libMajor = 0, libMinor = 0;
     bool hasOffsets = true;
@@ -441,6 +442,8 @@ GridBase::Ptr File::Impl::readGridAt(ByteReader& r, const Descriptor& d, bool wi
         options.flags = flags;
         options.half = half;
         options.fileVersion = version;
+        if (delayedLoad && hasOffsets)
+            options.delayed = source;
         d.io->read(r, *grid, options);
     }
     if (loaded)
@@ -457,6 +460,9 @@ GridBase::Ptr File::Impl::load(const Descriptor& d, bool withTree,
             (*loaded)[d.uniqueName] = g;
         return g;
     }
+    // A file truncated in place since open() would fault in the mapping: refuse it instead.
+    if (currentSize(source->fd(), path) < file->bytes().size())
+        throw IoError(path + ": the file has shrunk since it was opened");
     // The grid's bytes end at endPos: nothing it reads can reach into the next grid.
     ByteReader r(file->bytes().first(size_t(d.endPos)), path);
     r.seek(d.gridPos);
@@ -470,10 +476,12 @@ void File::close() {
     mImpl.reset();
 }
 
-void File::open() {
+void File::open(bool delayedLoad) {
     auto impl = std::make_unique<Impl>();
     impl->path = mPath;
-    impl->file = std::make_unique<MappedFile>(mPath);
+    impl->delayedLoad = delayedLoad;
+    impl->source = std::make_shared<const FileSource>(mPath);
+    impl->file = std::make_unique<MappedFile>(*impl->source);
     ByteReader r(impl->file->bytes(), mPath);
     if (r.size() < 8 || r.read<uint64_t>("magic") != FILE_MAGIC)
         throw IoError(mPath + ": not a .vdb file (bad magic number)");

@@ -7,8 +7,9 @@
 /// Writing encodes the leaves in parallel, in blocks whose bytes are concatenated in the
 /// tree's depth-first order, so the output does not depend on the thread count. Reading
 /// parses the topology serially, finds every leaf's bytes with a cheap serial skip, then
-/// decodes the leaves in parallel. Every count, length, origin and code is checked against
-/// the data before it is used (see ByteReader).
+/// decodes the leaves in parallel, or, with delayed loading, gives each leaf a record of where
+/// its bytes are (tree::LeafNode::OutOfCore) and decodes it on first access. Every count,
+/// length, origin and code is checked against the data before it is used (see ByteReader).
 
 #pragma once
 
@@ -41,11 +42,38 @@ struct TreeWriteOptions {
     bool half = false;
 };
 
-/// How a tree is read: the grid's flags, the half flag and the file version.
+/// An open file that out-of-core leaves read their bytes from. It stays open as long as a
+/// leaf refers to it (through shared pointers), and reads with pread(), so a file removed or
+/// replaced by rename after opening keeps serving its original bytes, and a file truncated in
+/// place makes the affected loads raise IoError rather than crash.
+/// Threads: read() may run concurrently.
+class FileSource {
+public:
+    /// Opens `path` for reading. @throw IoError when it cannot be opened.
+    explicit FileSource(const std::string& path);
+    ~FileSource();
+    FileSource(const FileSource&) = delete;
+    FileSource& operator=(const FileSource&) = delete;
+
+    int fd() const { return mFd; }
+    const std::string& path() const { return mPath; }
+    /// Replaces `out` by the file's bytes [begin, end).
+    /// @throw IoError when the file no longer holds them.
+    void read(uint64_t begin, uint64_t end, std::vector<uint8_t>& out) const;
+
+private:
+    std::string mPath;
+    int mFd = -1;
+};
+
+/// How a tree is read: the grid's flags, the half flag and the file version; with `delayed`,
+/// leaf values are left in that file and loaded on first access (the bytes the reader is given
+/// must then start at the file's first byte).
 struct TreeReadOptions {
     uint32_t flags = COMPRESS_ACTIVE_MASK;
     bool half = false;
     uint32_t fileVersion = FILE_VERSION;
+    std::shared_ptr<const FileSource> delayed;
 };
 
 /// What writing a tree tells the file writer: where the buffers start within the tree's bytes
@@ -212,7 +240,12 @@ void readInternalTopology(TopologyReader<LeafT>& s, NodeT& node) {
     for (Index n : childMask.onBits()) {
         const Coord origin = node.offsetToGlobalCoord(n);
         if constexpr (ChildT::LEVEL == 0) {
-            auto leaf = std::make_unique<ChildT>(origin, s.background, false);
+            // Value leaves get their buffer when the values are read (or none, when delayed).
+            std::unique_ptr<ChildT> leaf;
+            if constexpr (IS_BOOL_LEAF<ChildT> || IS_MASK_LEAF<ChildT>)
+                leaf = std::make_unique<ChildT>(origin, false, false);
+            else
+                leaf = std::make_unique<ChildT>(tree::PartialCreate{}, origin);
             readMask(r, leaf->getValueMask(), "leaf value mask");
             s.leaves.push_back(leaf.get());
             node.setChild(n, leaf.release());
@@ -235,6 +268,34 @@ void skipLeafValues(ByteReader& r, const LeafT& leaf, const TreeReadOptions& opt
     skipData<ValueT>(r, h.valueCount, options.half, options.flags);
 }
 
+/// Reads the values of a value leaf of mask `mask` into `values`, starting after the mask of
+/// its buffer record; checks the stored origin against `origin` unless it is null.
+template <typename LeafT>
+void readLeafValues(ByteReader& r, typename LeafT::ValueType* values,
+                    const typename LeafT::MaskType& mask, const Coord* origin,
+                    const typename LeafT::ValueType& background, const TreeReadOptions& options,
+                    CodecScratch& scratch) {
+    if (options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION) {
+        readCompressedValues(r, values, LeafT::NUM_VALUES, mask, background, options.half,
+                             options.flags, true, scratch);
+        return;
+    }
+    const Coord stored = readCoord(r, "leaf origin");
+    if (origin && stored != *origin)
+        r.fail("leaf origin differs from the topology's");
+    const int8_t buffers = r.read<int8_t>("leaf buffer count");
+    if (buffers < 1)
+        r.fail("leaf buffer count " + std::to_string(int(buffers)));
+    readCompressedValues(r, values, LeafT::NUM_VALUES, mask, background, options.half,
+                         options.flags, false, scratch);
+    // Older files could hold extra temporal buffers: read and drop them.
+    const auto extra = std::make_unique<typename LeafT::ValueType[]>(LeafT::NUM_VALUES);
+    for (int b = 1; b < buffers; ++b) {
+        readCompressedValues(r, extra.get(), LeafT::NUM_VALUES, mask, background, options.half,
+                             options.flags, false, scratch);
+    }
+}
+
 /// Reads one leaf's buffer record starting at the reader's position.
 template <typename LeafT>
 void readLeafBuffer(ByteReader& r, LeafT& leaf, const typename LeafT::ValueType& background,
@@ -242,31 +303,55 @@ void readLeafBuffer(ByteReader& r, LeafT& leaf, const typename LeafT::ValueType&
     // The value mask is repeated here; the topology's copy is the one kept (as OpenVDB does
     // for files).
     r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT, "leaf mask");
-    const bool hasCode = options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
     if constexpr (IS_BOOL_LEAF<LeafT> || IS_MASK_LEAF<LeafT>) {
         if (readCoord(r, "leaf origin") != leaf.origin())
             r.fail("leaf origin differs from the topology's");
         if constexpr (IS_BOOL_LEAF<LeafT>)
             readMask(r, leaf.buffer(), "bool leaf values");
-    } else if (!hasCode) {
-        if (readCoord(r, "leaf origin") != leaf.origin())
-            r.fail("leaf origin differs from the topology's");
-        const int8_t buffers = r.read<int8_t>("leaf buffer count");
-        if (buffers < 1)
-            r.fail("leaf buffer count " + std::to_string(int(buffers)));
-        readCompressedValues(r, leaf.buffer(0).data(), LeafT::NUM_VALUES, leaf.getValueMask(),
-                             background, options.half, options.flags, false, scratch);
-        // Older files could hold extra temporal buffers: read and drop them.
-        const auto extra = std::make_unique<typename LeafT::ValueType[]>(LeafT::NUM_VALUES);
-        for (int b = 1; b < buffers; ++b) {
-            readCompressedValues(r, extra.get(), LeafT::NUM_VALUES, leaf.getValueMask(), background,
-                                 options.half, options.flags, false, scratch);
-        }
     } else {
-        readCompressedValues(r, leaf.buffer(0).data(), LeafT::NUM_VALUES, leaf.getValueMask(),
-                             background, options.half, options.flags, true, scratch);
+        leaf.setBufferCount(1);  // uninitialised: every value is read below
+        readLeafValues<LeafT>(r, leaf.buffer(0).data(), leaf.getValueMask(), &leaf.origin(),
+                              background, options, scratch);
     }
 }
+
+/// What the out-of-core leaves of one tree share: the file and how to decode.
+template <typename ValueT>
+struct DelayedTree {
+    TreeReadOptions options;
+    ValueT background;
+};
+
+/// The out-of-core record of a value leaf: the file offsets of its buffer record. Loading
+/// decodes with the value mask stored in the record, so state changes made before the load do
+/// not change the values.
+template <typename LeafT>
+class DelayedLeafValues final : public LeafT::OutOfCore {
+public:
+    using ValueT = typename LeafT::ValueType;
+    DelayedLeafValues(std::shared_ptr<const DelayedTree<ValueT>> tree, uint64_t begin, uint64_t end)
+        : mTree(std::move(tree)), mBegin(begin), mEnd(end) {}
+
+    void load(ValueT* values) const override {
+        thread_local std::vector<uint8_t> bytes;
+        thread_local CodecScratch scratch;
+        const FileSource& file = *mTree->options.delayed;
+        file.read(mBegin, mEnd, bytes);
+        const std::string source = file.path() + " (leaf at offset " + std::to_string(mBegin) + ")";
+        ByteReader r(bytes, source);
+        typename LeafT::MaskType mask;
+        readMask(r, mask, "leaf value mask");
+        readLeafValues<LeafT>(r, values, mask, nullptr, mTree->background, mTree->options, scratch);
+    }
+    std::unique_ptr<typename LeafT::OutOfCore> clone() const override {
+        return std::make_unique<DelayedLeafValues>(*this);
+    }
+    Index64 memUsage() const override { return sizeof(DelayedLeafValues); }
+
+private:
+    std::shared_ptr<const DelayedTree<ValueT>> mTree;
+    uint64_t mBegin, mEnd;  // the leaf's buffer record: file bytes [mBegin, mEnd)
+};
 
 /// Finds where the next leaf record ends, without decoding it.
 template <typename LeafT>
@@ -412,6 +497,17 @@ void readTree(ByteReader& r, TreeT& tree, const TreeReadOptions& options) {
         detail::skipLeafBuffer(r, *leaves[i], options);
     }
     starts[leaves.size()] = r.pos();
+    if constexpr (!detail::IS_BOOL_LEAF<LeafT> && !detail::IS_MASK_LEAF<LeafT>) {
+        if (options.delayed) {
+            auto shared = std::make_shared<const detail::DelayedTree<ValueT>>(
+                detail::DelayedTree<ValueT>{options, background});
+            for (size_t i = 0; i < leaves.size(); ++i) {
+                leaves[i]->setOutOfCore(std::make_unique<detail::DelayedLeafValues<LeafT>>(
+                    shared, starts[i], starts[i + 1]));
+            }
+            return;
+        }
+    }
     tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 32),
                       [&](const tbb::blocked_range<size_t>& range) {
                           detail::CodecScratch local;

@@ -10,6 +10,19 @@
 /// unsupportedGrids() and skipped cleanly. Every read is bounds-checked: a truncated,
 /// corrupt or hostile file raises IoError naming the file and the problem.
 ///
+/// Delayed loading (out-of-core, the paper's section 5.4): open(true), the default, makes the
+/// grids read afterwards hold their topology only; each leaf keeps the file offset of its
+/// values and loads them on first access, from any thread (see tree::LeafNode::OutOfCore).
+/// Bool and mask leaves, whose values are their bits, are always read at once. Such grids keep
+/// the file open, through their leaves, until the last out-of-core leaf is gone, also after
+/// close() or after the File is destroyed. They read through the descriptor open() opened: a
+/// file deleted or replaced by rename (as write() does) keeps serving the bytes it had when it
+/// was opened; a file rewritten or truncated in place serves what it holds at the time of the
+/// load: a leaf whose bytes are gone raises IoError from the access that loads it, and changed
+/// bytes decode to other values or raise IoError; nothing crashes. (Reading a grid's topology
+/// goes through a memory mapping; readGrid() and getGrids() refuse a file that has shrunk since
+/// open(), but a truncation during those calls is not guarded against.)
+///
 /// Writing produces version 224 files that OpenVDB 10 reads, byte-identical to OpenVDB's own
 /// output without ZIP or Blosc (apart from the random UUID and `file_mem_bytes`). The file is
 /// written to a temporary file next to the target and renamed into place, so an interrupted
@@ -82,8 +95,10 @@ public:
 
     // ---- Reading
     /// Opens the file and reads its header, file metadata and grid descriptors (grid data is
-    /// read on demand). @throw IoError when the file is missing, not a `.vdb` file or corrupt.
-    void open();
+    /// read on demand). With `delayedLoad`, grids read later load their leaf values on first
+    /// access (stream files, without offsets, are always read at once).
+    /// @throw IoError when the file is missing, not a `.vdb` file or corrupt.
+    void open(bool delayedLoad = true);
     bool isOpen() const { return mImpl != nullptr; }
     void close();
 
@@ -99,13 +114,14 @@ public:
     /// Grids that are in the file but cannot be read by this library.
     std::vector<UnsupportedGrid> unsupportedGrids() const;
 
-    /// Every readable grid, fully loaded, in the order OpenVDB returns them (sorted by name;
-    /// grids of equal names in file order).
+    /// Every readable grid (values delayed or loaded, as open() chose), in the order OpenVDB
+    /// returns them (sorted by name; grids of equal names in file order).
     GridPtrVecPtr getGrids() const;
     /// Every readable grid with its metadata and transform but an empty tree.
     GridPtrVecPtr readAllGridMetadata() const;
     /// The grid named `name` (a display name, whose first match is taken, or "name[n]"),
-    /// fully loaded. @throw IoError when there is no such grid.
+    /// with its tree (values delayed or loaded, as open() chose).
+    /// @throw IoError when there is no such grid.
     GridBase::Ptr readGrid(std::string_view name) const;
     /// The grid named `name` with metadata and transform only.
     GridBase::Ptr readGridMetadata(std::string_view name) const;

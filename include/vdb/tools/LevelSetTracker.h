@@ -209,8 +209,9 @@ void LevelSetTracker<GridT>::setCFL(ValueType cfl) {
 
 template <typename GridT>
 void LevelSetTracker<GridT>::normalize() {
-    detail::dispatchSpatialScheme(mSpatialScheme,
-                                  [this]<math::BiasedGradientScheme S>() { normalizeWith<S>(); });
+    detail::dispatchSpatialScheme(mSpatialScheme, [this]<math::BiasedGradientScheme S>() {
+        this->template normalizeWith<S>();
+    });
 }
 
 template <typename GridT>

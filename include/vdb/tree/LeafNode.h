@@ -14,11 +14,30 @@
 #include <vdb/util/BitMask.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdint>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <utility>
 
 namespace vdb::tree {
+
+/// Tag of the leaf constructor that allocates no values (a reader fills them, or attaches
+/// values that are still in a file).
+struct PartialCreate {};
+
+namespace detail {
+/// The lock a leaf takes to load its values from a file: one of a few stripes chosen by the
+/// leaf's address, so leaves need no mutex of their own and loads of different leaves rarely
+/// wait for each other.
+inline std::mutex& outOfCoreMutex(const void* leaf) {
+    static std::array<std::mutex, 64> stripes;
+    return stripes[(reinterpret_cast<std::uintptr_t>(leaf) >> 7) % stripes.size()];
+}
+}  // namespace detail
 
 /// A dense cube of (2^Log2Dim)^3 voxels at level 0 of a VDB tree.
 ///
@@ -31,14 +50,24 @@ namespace vdb::tree {
 ///
 /// Values live in 0 to 3 temporal buffers of NUM_VALUES values each, allocated as one block
 /// (paper 2.3). Buffer 0 holds the values every accessor sees; buffers 1 and 2 are scratch
-/// space for time integration, exchanged with swapBuffers() in O(1). Zero buffers means the
-/// values are not in memory (a leaf whose values are still on disk).
+/// space for time integration, exchanged with swapBuffers() in O(1).
+///
+/// Out-of-core values (delayed loading, paper 5.4): a leaf read from a file may hold, instead of
+/// its buffer, an OutOfCore record that says where its values are (the paper's "0 buffers"
+/// state: no value is in memory, only the record). The first read or write of a value, of a
+/// buffer or of the whole leaf loads them, once, transparently: getValue(), setValue*(),
+/// buffer(), fill(), copies and iterators all see the values as if they had always been in
+/// memory. Such a leaf reports one buffer. The record is reached through the data pointer with
+/// its lowest bit set, so delayed loading costs no bytes per leaf and the value read path one
+/// predictable branch.
 ///
 /// @tparam ValueT   voxel type; trivially copyable.
 /// @tparam Log2Dim  log2 of the edge length: 3 gives the standard 8^3 leaf.
 ///
 /// Invariant: each component of origin() is a multiple of DIM.
-/// Threads: concurrent const calls are safe; any mutation needs exclusive access.
+/// Threads: concurrent const calls are safe, including the ones that load out-of-core values
+/// (one thread loads, under a striped lock, the others wait for it); any mutation needs
+/// exclusive access.
 template <typename ValueT, Index Log2Dim>
 class LeafNode {
     static_assert(Log2Dim >= 2 && Log2Dim <= 7, "leaf edge must be 4 to 128 voxels");
@@ -61,8 +90,24 @@ public:
     using Buffer = std::span<ValueT, NUM_VALUES>;
     using ConstBuffer = std::span<const ValueT, NUM_VALUES>;
 
+    /// Where the values of an out-of-core leaf are, and how to decode them (implemented by the
+    /// file reader). Records are immutable once attached.
+    class OutOfCore {
+    public:
+        virtual ~OutOfCore() = default;
+        /// Writes the leaf's NUM_VALUES values, as they were stored, to `values`. It must not
+        /// depend on the leaf's current state: active states may change before the load.
+        /// @throw IoError when the values cannot be read.
+        virtual void load(ValueT* values) const = 0;
+        virtual std::unique_ptr<OutOfCore> clone() const = 0;
+        /// Bytes owned by the record.
+        virtual Index64 memUsage() const = 0;
+    };
+
     /// Creates the leaf whose brick contains `ijk`, every voxel `value` and `active`.
     explicit LeafNode(const Coord& ijk, const ValueT& value = ValueT{}, bool active = false);
+    /// Creates the leaf whose brick contains `ijk`, inactive, with no value buffer.
+    LeafNode(PartialCreate, const Coord& ijk) : mOrigin(ijk.alignedDown(LOG2DIM)) {}
     LeafNode(const LeafNode& other);
     LeafNode& operator=(const LeafNode& other);
     ~LeafNode() { freeBlock(); }
@@ -91,8 +136,8 @@ public:
 
     // ---- Values and states. Offsets are in [0, NUM_VALUES).
     const ValueT& getValue(Index offset) const {
-        VDB_ASSERT(offset < NUM_VALUES && mData != nullptr);
-        return mData[offset];
+        VDB_ASSERT(offset < NUM_VALUES);
+        return values()[offset];
     }
     const ValueT& getValue(const Coord& ijk) const { return getValue(coordToOffset(ijk)); }
     bool isValueOn(Index offset) const { return mValueMask.isOn(offset); }
@@ -130,8 +175,13 @@ public:
     void setActiveState(Index offset, bool on) { mValueMask.set(offset, on); }
     void setActiveState(const Coord& ijk, bool on) { mValueMask.set(coordToOffset(ijk), on); }
 
-    /// Sets every voxel to `value` with state `active`.
+    /// Sets every voxel to `value` with state `active` (out-of-core values are dropped unread).
     void fill(const ValueT& value, bool active) {
+        if (isOutOfCore()) {
+            ValueT* block = new ValueT[NUM_VALUES];
+            freeBlock();
+            mData = block;
+        }
         std::fill_n(mutableData(), NUM_VALUES, value);
         mValueMask.set(active);
     }
@@ -154,23 +204,31 @@ public:
     /// Grows `bbox` by the active voxels of this leaf.
     void evalActiveBoundingBox(CoordBBox& bbox) const;
 
-    /// Bytes owned by this leaf: the node and its value buffers.
-    Index64 memUsage() const {
-        return sizeof(LeafNode) + Index64(mBufferCount) * NUM_VALUES * sizeof(ValueT);
-    }
+    /// Bytes owned by this leaf: the node and its value buffers, or its out-of-core record.
+    /// Does not load out-of-core values.
+    Index64 memUsage() const;
 
     // ---- Temporal buffers (paper 2.3)
     Index bufferCount() const { return mBufferCount; }
-    /// True when the values are in memory (at least one buffer).
+    /// True when the leaf has values (at least one buffer, in memory or out of core).
     bool isAllocated() const { return mBufferCount > 0; }
+    /// True when the values are still in a file (see OutOfCore); reading one loads them.
+    bool isOutOfCore() const { return isRecord(loadData()); }
+    /// Replaces the values by `record`, which will load them on first access.
+    void setOutOfCore(std::unique_ptr<OutOfCore> record);
+    /// Loads out-of-core values now; does nothing for values in memory.
+    void loadValues() const {
+        if (isOutOfCore())
+            (void)loadOutOfCore();
+    }
     /// Returns buffer `i`; buffer 0 holds the values the tree reads. @pre i < bufferCount()
     Buffer buffer(Index i = 0) {
         VDB_ASSERT(i < mBufferCount);
-        return Buffer(mData + slotShift(i), NUM_VALUES);
+        return Buffer(mutableData() + slotShift(i), NUM_VALUES);
     }
     ConstBuffer buffer(Index i = 0) const {
         VDB_ASSERT(i < mBufferCount);
-        return ConstBuffer(mData + slotShift(i), NUM_VALUES);
+        return ConstBuffer(values() + slotShift(i), NUM_VALUES);
     }
     /// Resizes to `count` buffers (0 to 3). Buffers that are kept keep their values; new ones
     /// start as copies of buffer 0; zero frees every value.
@@ -226,10 +284,25 @@ public:
     ValueAllCIter cbeginValueAll() const { return {this, 0}; }
 
 private:
-    ValueT* mutableData() {
-        VDB_ASSERT(mData != nullptr);
-        return mData;
+    // mData is read with acquire and published with release, so a thread that sees values a
+    // concurrent load stored also sees the values themselves.
+    ValueT* loadData() const {
+        return std::atomic_ref<ValueT*>(mData).load(std::memory_order_acquire);
     }
+    static bool isRecord(const ValueT* p) { return reinterpret_cast<std::uintptr_t>(p) & 1u; }
+    static const OutOfCore* recordOf(const ValueT* p) {
+        return reinterpret_cast<const OutOfCore*>(reinterpret_cast<std::uintptr_t>(p) - 1u);
+    }
+    /// Buffer 0, loaded from the file first when the leaf is out of core.
+    const ValueT* values() const {
+        const ValueT* p = loadData();
+        if (isRecord(p)) [[unlikely]]
+            p = loadOutOfCore();
+        VDB_ASSERT(p != nullptr);
+        return p;
+    }
+    ValueT* mutableData() { return const_cast<ValueT*>(values()); }
+    ValueT* loadOutOfCore() const;
     // Buffer i lives at block slot (mSlots >> 2i) & 3; mData points at buffer 0's slot.
     Index slotOf(Index i) const { return (mSlots >> (2 * i)) & 3u; }
     std::ptrdiff_t slotShift(Index i) const {
@@ -237,12 +310,15 @@ private:
     }
     ValueT* blockStart() const { return mData - std::ptrdiff_t(slotOf(0)) * NUM_VALUES; }
     void freeBlock() {
-        if (mData)
+        if (isRecord(mData))
+            delete recordOf(mData);
+        else if (mData)
             delete[] blockStart();
         mData = nullptr;
     }
 
-    ValueT* mData = nullptr;    // buffer 0, or null when no buffer is allocated
+    // Buffer 0; null when no buffer is allocated; an OutOfCore record + 1 when out of core.
+    mutable ValueT* mData = nullptr;
     Coord mOrigin;              // a multiple of DIM in each component
     uint8_t mBufferCount = 0;   // 0 to MAX_BUFFERS
     uint8_t mSlots = 0b100100;  // 2 bits per buffer: its slot in the block
@@ -263,6 +339,16 @@ LeafNode<ValueT, Log2Dim>::LeafNode(const Coord& ijk, const ValueT& value, bool 
 template <typename ValueT, Index Log2Dim>
 LeafNode<ValueT, Log2Dim>::LeafNode(const LeafNode& other)
     : mOrigin(other.mOrigin), mBufferCount(other.mBufferCount), mValueMask(other.mValueMask) {
+    if (isRecord(other.loadData())) {
+        // Copy the record, unless another thread loads the values meanwhile.
+        std::lock_guard lock(detail::outOfCoreMutex(&other));
+        const ValueT* p = other.mData;
+        if (isRecord(p)) {
+            const auto* copy = recordOf(p)->clone().release();
+            mData = reinterpret_cast<ValueT*>(reinterpret_cast<std::uintptr_t>(copy) | 1u);
+            return;
+        }
+    }
     if (mBufferCount > 0) {
         mData = new ValueT[Index64(mBufferCount) * NUM_VALUES];
         for (Index i = 0; i < mBufferCount; ++i) {
@@ -309,9 +395,10 @@ bool LeafNode<ValueT, Log2Dim>::isConstant(ValueT& first, bool& state,
     state = mValueMask.isOn(0);
     if (state ? !mValueMask.isOn() : !mValueMask.isOff())
         return false;
-    first = mData[0];
+    const ValueT* data = values();
+    first = data[0];
     for (Index n = 1; n < NUM_VALUES; ++n) {
-        if (!detail::isApproxEqual(mData[n], first, tolerance))
+        if (!detail::isApproxEqual(data[n], first, tolerance))
             return false;
     }
     return true;
@@ -346,11 +433,50 @@ void LeafNode<ValueT, Log2Dim>::evalActiveBoundingBox(CoordBBox& bbox) const {
 }
 
 template <typename ValueT, Index Log2Dim>
+Index64 LeafNode<ValueT, Log2Dim>::memUsage() const {
+    const ValueT* p = loadData();
+    if (isRecord(p)) {
+        std::lock_guard lock(detail::outOfCoreMutex(this));
+        p = mData;  // a concurrent load may have replaced the record
+        if (isRecord(p))
+            return sizeof(LeafNode) + recordOf(p)->memUsage();
+    }
+    return sizeof(LeafNode) + Index64(mBufferCount) * NUM_VALUES * sizeof(ValueT);
+}
+
+template <typename ValueT, Index Log2Dim>
+void LeafNode<ValueT, Log2Dim>::setOutOfCore(std::unique_ptr<OutOfCore> record) {
+    VDB_ASSERT(record != nullptr);
+    static_assert(alignof(OutOfCore) >= 2, "the record pointer's lowest bit is the tag");
+    freeBlock();
+    mData = reinterpret_cast<ValueT*>(reinterpret_cast<std::uintptr_t>(record.release()) | 1u);
+    mBufferCount = 1;
+    mSlots = 0b100100;
+}
+
+template <typename ValueT, Index Log2Dim>
+ValueT* LeafNode<ValueT, Log2Dim>::loadOutOfCore() const {
+    std::lock_guard lock(detail::outOfCoreMutex(this));
+    ValueT* p = mData;  // under the lock, only a loader writes mData
+    if (!isRecord(p))
+        return p;  // another thread loaded the values first
+    const OutOfCore* record = recordOf(p);
+    std::unique_ptr<ValueT[]> block(new ValueT[NUM_VALUES]);
+    record->load(block.get());  // on failure the leaf stays out of core
+    ValueT* loaded = block.release();
+    std::atomic_ref<ValueT*>(mData).store(loaded, std::memory_order_release);
+    delete record;
+    return loaded;
+}
+
+template <typename ValueT, Index Log2Dim>
 void LeafNode<ValueT, Log2Dim>::setBufferCount(Index count) {
     if (count > MAX_BUFFERS)
         throw ValueError("a leaf holds at most 3 value buffers");
     if (count == mBufferCount)
         return;
+    if (count > 0 && isOutOfCore())
+        loadValues();  // the kept buffer 0 must be in memory
     if (count == 0) {
         freeBlock();
         mBufferCount = 0;

@@ -1,0 +1,287 @@
+// SPDX-License-Identifier: Apache-2.0
+// The file benchmarks of the paper's Tables IV, V and VI (Museth 2013, section 5.4 and
+// appendix A): this library against OpenVDB 10 on the same level set, in one process.
+//
+// Input: the Enright sphere narrow band (half width 5 voxels, values in voxel units), inserted
+// voxel by voxel in the same order into both libraries and sign-flood-filled by each. The grid
+// class is left unknown so that every codec applies (both libraries drop ZIP for level sets).
+//
+// For each compression setting (Table V):
+//   mask    COMPRESS_ACTIVE_MASK (inactive values coded per node)
+//   zip     ACTIVE_MASK + ZIP (Deflate)
+//   blosc   ACTIVE_MASK + BLOSC
+//   half    ACTIVE_MASK with values saved as 16-bit floats
+// it reports the file size, the write time, and the read time (Table VI) eager (open(false)
+// then readGrid) and delayed (open(true), the default, then readGrid: topology only), and the
+// memUsage() of the grid read each way (Table IV). Files go to --dir (default the system's
+// temporary folder), so the operating system's page cache holds them: the times are those of
+// the codecs and the parser, not of a disk. Every read grid is checked to have the input's
+// active voxel count; medians of --reps runs; ratio = vdb / openvdb.
+//
+// Usage: vdb_bench_io [--res 512,1024,2048] [--reps 5] [--settings mask,zip,blosc,half]
+//                     [--dir /tmp]
+
+#include <vdb/tools/SignedFloodFill.h>
+#include <vdb/vdb.h>
+
+#include "BenchCommon.h"
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/SignedFloodFill.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using vdb::bench::BandVoxel;
+
+constexpr float kBackground = 5.0f;  // the band's half width, in voxel units
+
+struct Setting {
+    std::string name;
+    uint32_t flags;  // the same bits in both libraries
+    bool half;
+};
+
+Setting settingNamed(const std::string& name) {
+    const uint32_t mask = vdb::io::COMPRESS_ACTIVE_MASK;
+    if (name == "mask")
+        return {name, mask, false};
+    if (name == "zip")
+        return {name, mask | vdb::io::COMPRESS_ZIP, false};
+    if (name == "blosc")
+        return {name, mask | vdb::io::COMPRESS_BLOSC, false};
+    if (name == "half")
+        return {name, mask, true};
+    std::fprintf(stderr, "unknown setting '%s'\n", name.c_str());
+    std::exit(2);
+}
+
+static_assert(uint32_t(vdb::io::COMPRESS_ZIP) == uint32_t(openvdb::io::COMPRESS_ZIP) &&
+              uint32_t(vdb::io::COMPRESS_ACTIVE_MASK) ==
+                  uint32_t(openvdb::io::COMPRESS_ACTIVE_MASK) &&
+              uint32_t(vdb::io::COMPRESS_BLOSC) == uint32_t(openvdb::io::COMPRESS_BLOSC));
+
+/// What one library measured for one setting.
+struct Result {
+    uint64_t fileBytes = 0;
+    double writeMs = 0, eagerMs = 0, delayedMs = 0;
+    uint64_t eagerMem = 0, delayedMem = 0;
+    bool ok = true;  // every read grid had the input's active voxel count
+};
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+template <typename F>
+double timeMs(F&& f) {
+    const auto start = Clock::now();
+    f();
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// ---- This library
+
+vdb::FloatGrid::Ptr makeOurs(const std::vector<BandVoxel>& band) {
+    auto grid = vdb::FloatGrid::create(kBackground);
+    auto acc = grid->getAccessor();
+    for (const BandVoxel& v : band)
+        acc.setValueOn(vdb::Coord(v.x, v.y, v.z), v.value);
+    vdb::tools::signedFloodFill(grid->tree());
+    grid->setName("sphere");
+    return grid;
+}
+
+Result measureOurs(const vdb::FloatGrid& input, const Setting& s, const std::string& path,
+                   int reps) {
+    Result r;
+    auto typed = vdb::FloatGrid::create(kBackground);  // shares the input's tree
+    typed->setTree(input.treePtr());
+    typed->setName("sphere");
+    typed->setSaveFloatAsHalf(s.half);
+    const uint64_t active = input.activeVoxelCount();
+    std::vector<double> write, eager, delayed;
+    for (int i = 0; i < reps; ++i) {
+        vdb::io::File out(path);
+        out.setCompression(s.flags);
+        write.push_back(timeMs([&] { out.write({typed}); }));
+        for (bool delay : {false, true}) {
+            vdb::GridBase::Ptr read;
+            const double ms = timeMs([&] {
+                vdb::io::File in(path);
+                in.open(delay);
+                read = in.readGrid("sphere");
+            });
+            (delay ? delayed : eager).push_back(ms);
+            r.ok = r.ok && read->activeVoxelCount() == active;
+            (delay ? r.delayedMem : r.eagerMem) = read->memUsage();
+        }
+    }
+    r.fileBytes = std::filesystem::file_size(path);
+    r.writeMs = median(write);
+    r.eagerMs = median(eager);
+    r.delayedMs = median(delayed);
+    return r;
+}
+
+// ---- OpenVDB
+
+openvdb::FloatGrid::Ptr makeTheirs(const std::vector<BandVoxel>& band) {
+    auto grid = openvdb::FloatGrid::create(kBackground);
+    auto acc = grid->getAccessor();
+    for (const BandVoxel& v : band)
+        acc.setValueOn(openvdb::Coord(v.x, v.y, v.z), v.value);
+    openvdb::tools::signedFloodFill(grid->tree());
+    grid->setName("sphere");
+    return grid;
+}
+
+Result measureTheirs(openvdb::FloatGrid& input, const Setting& s, const std::string& path,
+                     int reps) {
+    Result r;
+    auto grid = input.copy();  // shares the input's tree
+    grid->setSaveFloatAsHalf(s.half);
+    const uint64_t active = input.activeVoxelCount();
+    std::vector<double> write, eager, delayed;
+    for (int i = 0; i < reps; ++i) {
+        write.push_back(timeMs([&] {
+            openvdb::io::File out(path);
+            out.setCompression(s.flags);
+            out.write({grid});
+            out.close();
+        }));
+        for (bool delay : {false, true}) {
+            openvdb::GridBase::Ptr read;
+            const double ms = timeMs([&] {
+                openvdb::io::File in(path);
+                in.open(delay);
+                read = in.readGrid("sphere");
+            });
+            (delay ? delayed : eager).push_back(ms);
+            r.ok = r.ok && read->activeVoxelCount() == active;
+            (delay ? r.delayedMem : r.eagerMem) = read->memUsage();
+        }
+    }
+    r.fileBytes = std::filesystem::file_size(path);
+    r.writeMs = median(write);
+    r.eagerMs = median(eager);
+    r.delayedMs = median(delayed);
+    return r;
+}
+
+// ---- Command line
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream in(s);
+    std::string item;
+    while (std::getline(in, item, ','))
+        if (!item.empty())
+            out.push_back(item);
+    return out;
+}
+
+[[noreturn]] void usage(const std::string& message) {
+    std::fprintf(stderr,
+                 "%s\nusage: vdb_bench_io [--res 512,1024,2048] [--reps 5] "
+                 "[--settings mask,zip,blosc,half] [--dir /tmp]\n",
+                 message.c_str());
+    std::exit(2);
+}
+
+int parsePositive(const std::string& s, const char* what) {
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (s.empty() || *end != '\0' || v < 1 || v > 1 << 16)
+        usage(std::string("bad ") + what + " '" + s + "'");
+    return int(v);
+}
+
+double mib(uint64_t bytes) {
+    return double(bytes) / (1024.0 * 1024.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<int> resolutions{512, 1024, 2048};
+    int reps = 5;
+    std::vector<std::string> settings{"mask", "zip", "blosc", "half"};
+    std::filesystem::path dir = std::filesystem::temp_directory_path();
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (i + 1 >= argc)
+            usage("missing value after " + arg);
+        const std::string value = argv[++i];
+        if (arg == "--res") {
+            resolutions.clear();
+            for (const std::string& r : splitList(value))
+                resolutions.push_back(parsePositive(r, "resolution"));
+        } else if (arg == "--reps") {
+            reps = parsePositive(value, "repetition count");
+        } else if (arg == "--settings") {
+            settings = splitList(value);
+        } else if (arg == "--dir") {
+            dir = value;
+        } else {
+            usage("unknown argument " + arg);
+        }
+    }
+    openvdb::initialize();
+    const std::string ourPath = (dir / "vdb_bench_io_ours.vdb").string();
+    const std::string theirPath = (dir / "vdb_bench_io_openvdb.vdb").string();
+
+    std::printf(
+        "# vdb_bench_io: medians of %d runs; times in ms, sizes in MiB; "
+        "ratio = vdb / openvdb; %u hardware threads\n",
+        reps, std::thread::hardware_concurrency());
+    std::printf("%5s %-6s %-9s %10s %10s %6s\n", "res", "codec", "measure", "vdb", "openvdb",
+                "ratio");
+    bool ok = true;
+    for (const int res : resolutions) {
+        const auto band = vdb::bench::makeEnrightBand(res);
+        const auto ours = makeOurs(band);
+        const auto theirs = makeTheirs(band);
+        std::printf(
+            "# %d^3: %llu active voxels, %u leaves; in memory vdb %.2f MiB, openvdb "
+            "%.2f MiB\n",
+            res, (unsigned long long)ours->activeVoxelCount(), ours->tree().leafCount(),
+            mib(ours->memUsage()), mib(theirs->memUsage()));
+        for (const std::string& name : settings) {
+            const Setting s = settingNamed(name);
+            const Result a = measureOurs(*ours, s, ourPath, reps);
+            const Result b = measureTheirs(*theirs, s, theirPath, reps);
+            ok = ok && a.ok && b.ok;
+            const auto row = [&](const char* what, double x, double y) {
+                std::printf("%5d %-6s %-9s %10.2f %10.2f %6.2f\n", res, name.c_str(), what, x, y,
+                            x / y);
+            };
+            row("size", mib(a.fileBytes), mib(b.fileBytes));
+            row("write", a.writeMs, b.writeMs);
+            row("read", a.eagerMs, b.eagerMs);
+            row("delayed", a.delayedMs, b.delayedMs);
+            row("mem", mib(a.eagerMem), mib(b.eagerMem));
+            row("mem-dl", mib(a.delayedMem), mib(b.delayedMem));
+            if (!a.ok || !b.ok)
+                std::printf("# %s: a read grid had the wrong active voxel count\n",
+                            !a.ok ? "vdb" : "openvdb");
+            std::fflush(stdout);
+        }
+    }
+    std::filesystem::remove(ourPath);
+    std::filesystem::remove(theirPath);
+    return ok ? 0 : 1;
+}
