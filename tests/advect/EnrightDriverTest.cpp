@@ -2,8 +2,8 @@
 // Oracles: the exact volume of the Enright sphere (4/3 pi 0.15^3) and of other shapes for the
 // volume measure; the run's bookkeeping (sample times, counts, step totals) against the
 // settings; and a short low-resolution Enright run whose volume stays within a loose bound.
-// The full-period run at 128^3 is EnrightSlowTest; the comparison with OpenVDB is in
-// tests/compat/LevelSetAdvectCompatTest.cpp.
+// The full-period comparison with OpenVDB at 128^3 is in tests/compat (LevelSetAdvectCompatTest
+// and LevelSetAdvectCompatSlowTest).
 
 #include <vdb/Exceptions.h>
 #include <vdb/Grid.h>
@@ -57,6 +57,30 @@ TEST(EnrightTest, ShortRunReportsEveryFrame) {
     EXPECT_EQ(result.initial.volume, samples.front().volume);
     // The field is divergence-free: over a tenth of the period the volume barely changes.
     EXPECT_LT(std::abs(result.volumeLoss()), 0.05);
+}
+
+TEST(EnrightTest, EveryFrameAdvancesEvenWhenTheFieldVanishesAtItsStart) {
+    // Frames of 0.5 up to t = 2: the fourth starts at t = 1.5, where the field vanishes. Its
+    // speed |c(t)| on [1.5, 2] mirrors that on [1, 1.5], so it needs as many steps as the
+    // third frame, and cutting the run into frames must not change the result.
+    tools::EnrightTestOptions options;
+    options.resolution = 32;
+    options.endTime = 2.0;
+    options.frames = 4;
+    std::vector<tools::EnrightSample> samples;
+    const auto framed = tools::runEnrightTest<FloatGrid>(
+        options, [&](const tools::EnrightSample& s, const FloatGrid&) { samples.push_back(s); });
+    ASSERT_EQ(samples.size(), 5u);
+    const double third = double(samples[3].steps - samples[2].steps);
+    const double fourth = double(samples[4].steps - samples[3].steps);
+    EXPECT_GT(third, 10.0);
+    EXPECT_NEAR(fourth, third, 2.0);
+    options.frames = 1;
+    const auto whole = tools::runEnrightTest<FloatGrid>(options);
+    EXPECT_NEAR(double(framed.final.steps), double(whole.final.steps), 4.0);
+    EXPECT_NEAR(framed.final.volume, whole.final.volume, 0.01 * whole.initial.volume);
+    EXPECT_NEAR(double(framed.final.activeVoxels), double(whole.final.activeVoxels),
+                0.03 * double(whole.final.activeVoxels));
 }
 
 TEST(EnrightTest, RejectsBadOptions) {

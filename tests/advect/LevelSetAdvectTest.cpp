@@ -109,13 +109,60 @@ TEST(LevelSetAdvection, BackwardAdvectionUndoesForward) {
     EXPECT_LT((m1.centroid - m0.centroid).length(), 0.05 * kVoxel);
 }
 
-TEST(LevelSetAdvection, ZeroVelocityTakesNoStep) {
+TEST(LevelSetAdvection, ZeroVelocityAdvancesTimeAndChangesNothing) {
     auto grid = tools::createLevelSetSphere<FloatGrid>(kRadius, kCenter, kVoxel, 3.0f);
     auto copy = grid->deepCopy();
     tools::ConstantVelocityField<float> field(Vec3s(0.0f));
     ConstantAdvection advection(*grid, field);
-    EXPECT_EQ(advection.advect(0.0, 1.0), 0u);
+    EXPECT_EQ(advection.advect(0.0, 1.0), 1u);
+    EXPECT_EQ(advection.step(1.0, -0.5), 0.5);
     EXPECT_TRUE(test::bitIdenticalTrees(grid->tree(), copy->tree()));
+}
+
+/// A uniform velocity along x growing linearly from zero at t = 0 (time-dependent: it does
+/// not declare TIME_DEPENDENT). From t = 0 to T a point moves by RATE T^2 / 2.
+struct RampField {
+    static constexpr float RATE = 2.0f;
+    Vec3s operator()(const Vec3d&, double time) const { return Vec3s(RATE * float(time), 0, 0); }
+};
+
+TEST(LevelSetAdvection, FieldVanishingAtTheStartStillMovesTheSurface) {
+    // The velocity is zero at the start of the interval: the steps must come from the speed
+    // reached within them, not from a vanishing start speed (which allows any step).
+    constexpr double kTime = 0.3;  // displacement RATE T^2 / 2 = 0.09, 4.5 voxels
+    auto grid = tools::createLevelSetSphere<FloatGrid>(kRadius, kCenter, kVoxel, 3.0f);
+    const Vec3d c0(kCenter);
+    const auto m0 = test::insideMoments(*grid, boxAround(c0, kRadius + 0.1));
+    RampField field;
+    tools::LevelSetAdvection<FloatGrid, RampField> advection(*grid, field);
+    advection.setTemporalScheme(math::TVD_RK3);
+    const size_t steps = advection.advect(0.0, kTime);
+    // Each step moves the surface by at most 0.5 dx: at least RATE T^2 / 2 / (0.5 dx) = 9.
+    EXPECT_GE(steps, 9u);
+    const Vec3d shift(0.5 * RampField::RATE * kTime * kTime, 0.0, 0.0);
+    const auto m1 = test::insideMoments(*grid, boxAround(c0 + shift, kRadius + 0.1));
+    // Velocity sampled at the middle of each step: exact for a linear ramp in time.
+    EXPECT_LT((m1.centroid - m0.centroid - shift).length() / kVoxel, 0.1)
+        << m1.centroid - m0.centroid;
+
+    // Backwards from T to 0 (the ramp vanishes at the end): back where it started.
+    advection.advect(kTime, 0.0);
+    const auto m2 = test::insideMoments(*grid, boxAround(c0, kRadius + 0.1));
+    EXPECT_LT((m2.centroid - m0.centroid).length() / kVoxel, 0.1) << m2.centroid - m0.centroid;
+}
+
+TEST(LevelSetAdvection, OneStepSpanningAZeroOfTheFieldIsShortened) {
+    // Enright's field vanishes at t = 1.5 and reverses: a step from 1.5 asked to reach 4.5 (a
+    // zero again) must still be limited by the speed in between.
+    auto grid = tools::createEnrightSphere<FloatGrid>(32, 3.0f);
+    tools::EnrightField<float> field;
+    tools::LevelSetAdvection<FloatGrid, tools::EnrightField<float>> advection(*grid, field);
+    const double dt = advection.step(1.5, 3.0);
+    EXPECT_GT(dt, 0.0);
+    // Band speeds stay below 2 (|u| <= 2, |v|, |w| <= 1 and not all at once), so a step
+    // of 0.5 dx / 2 is always allowed; anything near the whole interval is not.
+    EXPECT_GE(dt, 0.5 / 32 / 2.5);
+    EXPECT_LT(dt, 0.1);
 }
 
 TEST(LevelSetAdvection, DiscreteFieldAdvectsLikeTheConstantField) {

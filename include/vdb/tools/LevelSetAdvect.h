@@ -5,14 +5,24 @@
 /// on its active voxels (paper 4.2 and 5.2), with upwind-biased first-order to HJ-WENO5 spatial
 /// differences and TVD Runge-Kutta time integration in the leaves' temporal buffers (RK1 and
 /// RK2 use one auxiliary buffer per leaf, RK3 two; buffers are swapped or written in place,
-/// never copied grid-wide). Each time step is CFL-limited, dt = CFL * dx / max |V| over the
-/// active voxels (CFL 0.5 by default), with the velocity sampled once per step at its start;
-/// after every step a LevelSetTracker rebuilds the band (dilate, renormalise, trim, prune).
+/// never copied grid-wide). Each time step is CFL-limited, dt <= CFL * dx / max |V| over the
+/// active voxels (CFL 0.5 by default); after every step a LevelSetTracker rebuilds the band
+/// (dilate, renormalise, trim, prune).
 ///
-/// Cost per step: sampling the field once per active voxel, then per Runge-Kutta stage one
-/// pass over the active voxels (one-sided differences along each axis, chosen by the sign of
-/// the velocity), then the tracker's rebuild. Threads: parallel over leaves; results are
-/// bit-identical for any number of threads.
+/// Time-dependent fields: the velocity driving a step is sampled once, at the middle of the
+/// step, and the step is short enough for the CFL condition to hold with the speeds at its
+/// start, middle and end. A field that vanishes at some instant (Enright's at t = 1.5) thus
+/// still gets steps sized by the speed it reaches within them, rather than one step that
+/// spans the whole interval with the vanishing velocity. Speeds are only looked at at those
+/// three instants: a field whose speed on the band is zero at all three but not in between
+/// is under-resolved unless the caller bounds the step (maxDt, or frames).
+///
+/// Cost per step: one sampling pass over the active voxels for a time-independent field
+/// (declaring `TIME_DEPENDENT = false`), three for a time-dependent one (start speed, middle
+/// velocities, end speed; more in the rare step that the middle or end speed shortens), then
+/// per Runge-Kutta stage one pass over the active voxels (one-sided differences along each
+/// axis, chosen by the sign of the velocity), then the tracker's rebuild. Threads: parallel
+/// over leaves; results are bit-identical for any number of threads.
 ///
 /// @code
 /// auto grid = vdb::tools::createEnrightSphere<vdb::FloatGrid>(256);
@@ -107,20 +117,24 @@ public:
     void setThreaded(bool threaded) { mTracker.setThreaded(threaded); }
 
     /// Advects from time `t0` to `t1` (backwards when t1 < t0) in CFL-limited steps, rebuilding
-    /// the band after each, and returns the number of steps. Stops early, returning the steps
-    /// taken, when the velocity vanishes on every active voxel.
+    /// the band after each, and returns the number of steps. Always reaches t1: a step over
+    /// which the velocity vanishes on every active voxel advances the time and leaves the grid
+    /// as it is.
     size_t advect(double t0, double t1);
 
-    /// Advects by one step of at most `maxDt` time units from time `t` (backwards when maxDt is
-    /// negative) and returns the time step taken (0 when the velocity vanishes). With
-    /// `rebuild`, the band is rebuilt afterwards (as advect() does).
+    /// Advects by one step of at most |maxDt| time units from time `t` (backwards when maxDt is
+    /// negative) and returns the length of the step taken (0 only when maxDt is 0). With
+    /// `rebuild`, the band is rebuilt afterwards (as advect() does). When the velocity vanishes
+    /// on every active voxel at the start, middle and end of the step, the step takes all of
+    /// |maxDt| and changes nothing.
     double step(double t, double maxDt, bool rebuild = true);
 
 private:
     template <math::BiasedGradientScheme Scheme>
     void integrate(ValueType dt);
-    /// Samples the field at the active voxels into mVelocity; returns max |V|^2.
-    ValueType sampleField(double time, bool backward);
+    /// The field at the active voxels (as counted in mOffsets) at `time`, negated when
+    /// `backward`: stored into mVelocity when `store`; returns max |V|^2 over them.
+    ValueType sampleField(double time, bool backward, bool store);
 
     TrackerType mTracker;
     const FieldT* mField;
@@ -142,6 +156,17 @@ auto makeFieldSampler(const FieldT& field) {
         return field.sampler();
     } else {
         return [&field](const Vec3d& xyz, double t) { return field(xyz, t); };
+    }
+}
+
+/// Whether the velocity of `FieldT` may change with time (true unless the field declares
+/// `TIME_DEPENDENT = false`).
+template <typename FieldT>
+constexpr bool isTimeDependent() {
+    if constexpr (requires { FieldT::TIME_DEPENDENT; }) {
+        return bool(FieldT::TIME_DEPENDENT);
+    } else {
+        return true;
     }
 }
 
@@ -167,26 +192,56 @@ template <typename GridT, VelocityField FieldT>
 double LevelSetAdvection<GridT, FieldT>::step(double t, double maxDt, bool rebuild) {
     if (maxDt == 0.0)
         return 0.0;
+    const bool backward = maxDt < 0.0;
+    const double direction = backward ? -1.0 : 1.0;
     auto& leaves = mTracker.leafs();
     leaves.rebuild();
-    const ValueType maxV2 = sampleField(t, maxDt < 0.0);
-    if (!(maxV2 > math::Delta<ValueType>::value()))
-        return 0.0;
-    const double dx = double(mTracker.voxelSize());
-    const double dt = std::min(std::abs(maxDt), double(mCfl) * dx / std::sqrt(double(maxV2)));
-    detail::dispatchSpatialScheme(
-        mSpatialScheme, [&]<math::BiasedGradientScheme S>() { integrate<S>(ValueType(dt)); });
+    mOffsets = detail::activeVoxelOffsets(leaves);
+    // dt * speed <= limit for every speed looked at, and dt <= |maxDt|.
+    const double limit = double(mCfl) * double(mTracker.voxelSize());
+    double dt = std::abs(maxDt);
+    const auto shorten = [&](ValueType speed2) {
+        const double speed = std::sqrt(double(speed2));
+        if (speed * dt > limit) {
+            dt = limit / speed;
+            return true;
+        }
+        return false;
+    };
+    ValueType maxV2(0);
+    if constexpr (detail::isTimeDependent<FieldT>()) {
+        shorten(sampleField(t, backward, false));
+        // The middle velocities drive the step; the middle and end speeds may shorten it,
+        // which moves the middle: sample again. Each round shortens dt, and after the
+        // first few rounds the step is accepted as it is.
+        constexpr int kRounds = 8;
+        for (int round = 0; round < kRounds; ++round) {
+            maxV2 = sampleField(t + direction * 0.5 * dt, backward, true);
+            const bool shorterForMiddle = shorten(maxV2);
+            const bool shorterForEnd = shorten(sampleField(t + direction * dt, backward, false));
+            if (!shorterForMiddle && !shorterForEnd)
+                break;
+        }
+    } else {
+        maxV2 = sampleField(t, backward, true);
+        shorten(maxV2);
+    }
+    if (maxV2 > math::Delta<ValueType>::value()) {
+        detail::dispatchSpatialScheme(
+            mSpatialScheme, [&]<math::BiasedGradientScheme S>() { integrate<S>(ValueType(dt)); });
+        if (rebuild)
+            mTracker.track();
+    }
     mVelocity.clear();
-    if (rebuild)
-        mTracker.track();
     return dt;
 }
 
 template <typename GridT, VelocityField FieldT>
-auto LevelSetAdvection<GridT, FieldT>::sampleField(double time, bool backward) -> ValueType {
+auto LevelSetAdvection<GridT, FieldT>::sampleField(double time, bool backward, bool store)
+    -> ValueType {
     auto& leaves = mTracker.leafs();
-    mOffsets = detail::activeVoxelOffsets(leaves);
-    mVelocity.resize(mOffsets.back());
+    if (store)
+        mVelocity.resize(mOffsets.back());
     const math::Transform& xform = mTracker.grid().transform();
     const ValueType sign = backward ? ValueType(-1) : ValueType(1);
     return util::parallelReduce(
@@ -202,7 +257,8 @@ auto LevelSetAdvection<GridT, FieldT>::sampleField(double time, bool backward) -
                     const auto v = sampler(xyz, time);
                     const VectorType vel(sign * ValueType(v[0]), sign * ValueType(v[1]),
                                          sign * ValueType(v[2]));
-                    mVelocity[n] = vel;
+                    if (store)
+                        mVelocity[n] = vel;
                     maxV2 = std::max(maxV2, vel.lengthSqr());
                 }
             }

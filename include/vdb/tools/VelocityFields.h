@@ -6,7 +6,9 @@
 /// A field is any type with `Vec3<T> operator()(const Vec3d& xyz, double time) const` giving the
 /// velocity at the world-space point `xyz` (world units per unit time). A field may also offer
 /// `sampler()`, returning a per-thread object with the same call operator (DiscreteField does,
-/// so that each thread reads the velocity grid through its own accessor).
+/// so that each thread reads the velocity grid through its own accessor), and may declare
+/// `static constexpr bool TIME_DEPENDENT = false` when its velocity does not change with time
+/// (fields that do not say are treated as time-dependent; see LevelSetAdvection::step()).
 ///
 /// @code
 /// vdb::tools::EnrightField<float> field;                 // period 3
@@ -40,6 +42,7 @@ public:
     using ScalarType = ScalarT;
     using VectorType = math::Vec3<ScalarT>;
     static constexpr double PERIOD = 3.0;
+    static constexpr bool TIME_DEPENDENT = true;
 
     VectorType operator()(const Vec3d& xyz, double time) const {
         constexpr ScalarT pi = std::numbers::pi_v<ScalarT>;
@@ -60,6 +63,8 @@ class ConstantVelocityField {
 public:
     using ScalarType = ScalarT;
     using VectorType = math::Vec3<ScalarT>;
+
+    static constexpr bool TIME_DEPENDENT = false;
 
     explicit ConstantVelocityField(const VectorType& velocity) : mVelocity(velocity) {}
     VectorType operator()(const Vec3d&, double) const { return mVelocity; }
@@ -83,6 +88,7 @@ class DiscreteField {
 public:
     using VectorType = typename VelGridT::ValueType;
     using ScalarType = typename VectorType::ValueType;
+    static constexpr bool TIME_DEPENDENT = false;
 
     explicit DiscreteField(const VelGridT& grid)
         : DiscreteField(grid, grid.getGridClass() == GRID_STAGGERED) {}
