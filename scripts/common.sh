@@ -6,8 +6,9 @@
 VDB_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 VDB_JOBS="${VDB_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 
-# ccache keeps its files under build/ unless the caller chose a place.
-export CCACHE_DIR="${CCACHE_DIR:-$VDB_ROOT/build/ccache}"
+# ccache keeps its files in the user's cache folder, shared by every clone of the project
+# (paths are made relative to the clone's root), unless the caller chose a place.
+export CCACHE_DIR="${CCACHE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/vdb-ccache}"
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$VDB_ROOT}"
 
 vdb_die() {

@@ -1,0 +1,199 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// What every subcommand of the `vdb` tool shares: the common options, reading and writing
+/// `.vdb` files with clear errors, dispatch on the grid's value type, and Ctrl-C handling.
+
+#pragma once
+
+#include <vdb/Grid.h>
+#include <vdb/io/File.h>
+
+#include "Json.h"
+#include "Progress.h"
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace vdb::app {
+
+/// A request that makes no sense (a bad option value, a grid of the wrong kind, a missing
+/// input): reported as one line, exit status 2.
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// The options every subcommand takes and the state they set up, plus the subcommands
+/// registered so far.
+struct Context {
+    int threads = 0;     ///< 0: every core
+    bool quiet = false;  ///< no progress and no report lines
+    bool json = false;   ///< figures as one JSON document on stdout
+
+    struct Command {
+        CLI::App* app;
+        std::function<void()> run;
+    };
+    std::vector<Command> commands;
+    std::unique_ptr<tbb::global_control> threadLimit;
+
+    /// Applies --threads; called once, before the chosen subcommand runs.
+    void applyThreads();
+    /// Whether report lines go to stdout (neither --quiet nor --json).
+    bool verbose() const { return !quiet && !json; }
+};
+
+/// Adds a subcommand with --threads and --quiet (and --json when it reports figures) and
+/// registers `run` to be called when it is chosen.
+CLI::App* addCommand(CLI::App& app, Context& ctx, std::string name, std::string description,
+                     bool reportsFigures, std::function<void()> run);
+
+/// A CLI11 check that a number is above zero ("must be positive").
+const CLI::Validator& positive();
+
+/// Formats a count with thousands separators ("794,720").
+std::string withCommas(uint64_t n);
+/// Formats a byte count ("3.28 MB"; decimal units, as file managers show them).
+std::string bytesText(uint64_t bytes);
+/// Formats seconds ("0.12 s", "2 min 03 s").
+std::string secondsText(double seconds);
+
+/// What a command did: its timed steps (shown with a progress line while they run, then one
+/// report line each) and, with --json, one JSON document of the steps and the command's own
+/// figures, printed by finish().
+class Report {
+public:
+    explicit Report(const Context& ctx);
+
+    /// Runs `f()` (or `f(progress)` when it takes a Progress&) as the step `label`, and
+    /// returns what it returns.
+    template <typename F>
+    decltype(auto) step(const std::string& label, F&& f, uint64_t total = 0) {
+        Progress progress(progressWanted(mCtx.quiet), label, total);
+        struct Record {
+            Report& report;
+            Progress& progress;
+            const std::string& label;
+            ~Record() {
+                const double seconds = progress.finish();
+                if (std::uncaught_exceptions() == 0)
+                    report.recordStep(label, seconds);
+            }
+        } record{*this, progress, label};
+        if constexpr (std::is_invocable_v<F, Progress&>)
+            return f(progress);
+        else
+            return f();
+    }
+
+    /// A report line (printed unless --quiet or --json).
+    void note(const std::string& text) const;
+    /// The JSON document's top-level object, for the command's own keys.
+    JsonWriter& json() { return mJson; }
+    /// Prints the JSON document (with --json); call once, at the end.
+    void finish();
+
+private:
+    void recordStep(const std::string& label, double seconds);
+
+    const Context& mCtx;
+    JsonWriter mJson;
+    std::vector<std::pair<std::string, double>> mSteps;
+};
+
+/// Throws UsageError when an operation estimated to need `bytes` of memory would not fit in
+/// this machine's physical memory, naming `what`.
+void checkMemoryEstimate(double bytes, const std::string& what);
+
+// ---- Files
+
+/// Reads every grid of the `.vdb` file `path`; grids this library cannot read are skipped and
+/// named in a warning unless quiet.
+GridPtrVec readGrids(const std::string& path, const Context& ctx);
+
+/// The grids of `grids` named `name`, or all of them when `name` is empty. Throws UsageError
+/// naming the file when nothing matches.
+GridPtrVec selectGrids(const GridPtrVec& grids, const std::string& name, const std::string& path);
+
+/// Checks, before any work starts, that `path` can be created: its folder exists and it does
+/// not name a folder. Throws UsageError otherwise.
+void checkOutputPath(const std::string& path);
+
+/// Parses a --compression value ("none", "zip", "blosc", each with active-mask compression, or
+/// "raw" for none at all) into COMPRESS_* flags.
+uint32_t parseCompression(const std::string& name);
+
+/// Writes `grids` to `path` atomically (a temporary file renamed into place), removing the
+/// temporary file if the user presses Ctrl-C meanwhile.
+void writeGrids(const std::string& path, const GridPtrVec& grids, uint32_t compression);
+
+/// The output options of commands that write a `.vdb` file.
+struct OutputArgs {
+    std::string path;
+    std::string compression = "blosc";
+    bool half = false;
+};
+
+/// Adds -o/--output (required), --compression and --half to `cmd`.
+void addOutputOptions(CLI::App& cmd, OutputArgs& out);
+
+/// Writes `grids` as `out` says (floats as halves with --half), as a timed report step.
+void writeOutput(Report& report, const OutputArgs& out, const GridPtrVec& grids);
+
+// ---- Ctrl-C
+
+/// Blocks SIGINT and SIGTERM in every thread and starts a thread that, on either signal,
+/// removes the temporary files of outputs being written and exits with status 130. Call first
+/// thing in main, before any other thread starts.
+void installInterruptHandler();
+
+// ---- Dispatch on value types
+
+/// Calls `f(typedGrid)` when `grid` is a FloatGrid or DoubleGrid (the grid types level set
+/// tools take); throws UsageError naming the grid and its type otherwise.
+template <typename F>
+void withLevelSetGrid(const GridBase::Ptr& grid, F&& f) {
+    if (auto g = gridPtrCast<FloatGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<DoubleGrid>(grid))
+        return f(*g);
+    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() +
+                     "; this command needs a float or double grid");
+}
+
+/// Calls `f(typedGrid)` for any grid type the library holds; throws UsageError otherwise.
+template <typename F>
+void withAnyGrid(const GridBase::Ptr& grid, F&& f) {
+    if (auto g = gridPtrCast<FloatGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<DoubleGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Int32Grid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Int64Grid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<BoolGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<MaskGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Vec3SGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Vec3DGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Vec3IGrid>(grid))
+        return f(*g);
+    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() +
+                     ", which this command does not handle");
+}
+
+}  // namespace vdb::app

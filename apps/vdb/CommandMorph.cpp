@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// `vdb morph dilate|erode N`, `vdb floodfill` and `vdb prune`: the topology tools applied to
+/// the grids of a file, written to a new file with the other grids unchanged.
+
+#include <vdb/tools/Morphology.h>
+#include <vdb/tools/Prune.h>
+#include <vdb/tools/SignedFloodFill.h>
+
+#include "Commands.h"
+
+namespace vdb::app {
+namespace {
+
+/// The input file and grid selection of a read-edit-write command.
+struct EditArgs {
+    std::string input;
+    std::string grid;
+    OutputArgs out;
+};
+
+void addEditOptions(CLI::App& cmd, EditArgs& args) {
+    cmd.add_option("input", args.input, "The .vdb file to read")->required();
+    cmd.add_option("-g,--grid", args.grid, "Only this grid (default: every grid it applies to)");
+    addOutputOptions(cmd, args.out);
+}
+
+/// Reads the input, calls `edit(report, grid)` on the selected grids, writes every grid.
+template <typename EditF>
+void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit) {
+    checkOutputPath(args.out.path);
+    Report report(ctx);
+    const GridPtrVec grids =
+        report.step("read " + args.input, [&] { return readGrids(args.input, ctx); });
+    report.json().key("input").value(args.input).key("grids").beginArray();
+    for (const auto& grid : selectGrids(grids, args.grid, args.input)) {
+        const Index64 before = grid->activeVoxelCount();
+        if (!edit(report, grid))
+            continue;
+        const Index64 after = grid->activeVoxelCount();
+        report.note("  grid \"" + grid->getName() + "\": " + withCommas(before) + " -> " +
+                    withCommas(after) + " active voxels, " + withCommas(grid->leafCount()) +
+                    " leaves");
+        report.json()
+            .beginObject()
+            .key("name")
+            .value(grid->getName())
+            .key("activeVoxelsBefore")
+            .value(static_cast<uint64_t>(before))
+            .key("activeVoxelsAfter")
+            .value(static_cast<uint64_t>(after))
+            .key("leaves")
+            .value(static_cast<uint64_t>(grid->leafCount()))
+            .endObject();
+    }
+    report.json().endArray();
+    writeOutput(report, args.out, grids);
+    report.finish();
+}
+
+tools::NearestNeighbors parseNeighbors(const std::string& name) {
+    if (name == "face" || name == "6")
+        return tools::NN_FACE;
+    if (name == "edge" || name == "18")
+        return tools::NN_FACE_EDGE;
+    return tools::NN_FACE_EDGE_VERTEX;
+}
+
+tools::TilePolicy parseTilePolicy(const std::string& name) {
+    if (name == "ignore")
+        return tools::IGNORE_TILES;
+    if (name == "expand")
+        return tools::EXPAND_TILES;
+    return tools::PRESERVE_TILES;
+}
+
+void addMorphCommand(CLI::App& app, Context& ctx) {
+    struct Args {
+        EditArgs edit;
+        std::string operation;
+        int iterations = 1;
+        std::string neighbors = "face";
+        std::string tiles = "preserve";
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd = addCommand(
+        app, ctx, "morph", "Dilate or erode the active voxels of grids (bit-mask morphology)", true,
+        [args, &ctx] {
+            const Args& a = *args;
+            const auto nn = parseNeighbors(a.neighbors);
+            const auto policy = parseTilePolicy(a.tiles);
+            const bool dilate = a.operation == "dilate";
+            runEdit(ctx, a.edit, [&](Report& report, const GridBase::Ptr& grid) {
+                withAnyGrid(grid, [&](auto& g) {
+                    report.step(std::string(dilate ? "dilate " : "erode ") + grid->getName(), [&] {
+                        if (dilate)
+                            tools::dilateActiveValues(g.tree(), a.iterations, nn, policy);
+                        else
+                            tools::erodeActiveValues(g.tree(), a.iterations, nn, policy);
+                    });
+                });
+                return true;
+            });
+        });
+    cmd->add_option("operation", args->operation, "dilate or erode")
+        ->required()
+        ->check(CLI::IsMember({"dilate", "erode"}));
+    cmd->add_option("iterations", args->iterations, "How many voxels to grow or shrink by")
+        ->required()
+        ->check(CLI::Range(1, 1000));
+    addEditOptions(*cmd, args->edit);
+    cmd->add_option("--nn", args->neighbors,
+                    "Neighbourhood: face (6), edge (18) or vertex (26 neighbours)")
+        ->check(CLI::IsMember({"face", "edge", "vertex", "6", "18", "26"}))
+        ->capture_default_str();
+    cmd->add_option("--tiles", args->tiles, "Active tiles: ignore, expand or preserve")
+        ->check(CLI::IsMember({"ignore", "expand", "preserve"}))
+        ->capture_default_str();
+    cmd->footer(
+        "Examples:\n  vdb morph dilate 2 in.vdb -o out.vdb\n"
+        "  vdb morph erode 1 in.vdb -o out.vdb --nn vertex --grid density");
+}
+
+void addFloodFillCommand(CLI::App& app, Context& ctx) {
+    auto args = std::make_shared<EditArgs>();
+    CLI::App* cmd = addCommand(
+        app, ctx, "floodfill",
+        "Give the inactive voxels and tiles of level sets the sign of the side they are on", true,
+        [args, &ctx] {
+            size_t filled = 0;
+            runEdit(ctx, *args, [&](Report& report, const GridBase::Ptr& grid) {
+                // Without --grid, only grids marked as level sets.
+                if (args->grid.empty() && grid->getGridClass() != GRID_LEVEL_SET)
+                    return false;
+                withLevelSetGrid(grid, [&](auto& g) {
+                    report.step("flood fill " + grid->getName(),
+                                [&] { tools::signedFloodFill(g.tree()); });
+                });
+                ++filled;
+                return true;
+            });
+            if (filled == 0)
+                throw UsageError(args->input +
+                                 " has no level set grid; name a float grid with --grid");
+        });
+    addEditOptions(*cmd, *args);
+    cmd->footer("Example:\n  vdb floodfill band.vdb -o filled.vdb");
+}
+
+void addPruneCommand(CLI::App& app, Context& ctx) {
+    struct Args {
+        EditArgs edit;
+        double tolerance = 0;
+        std::string mode = "auto";
+    };
+    auto args = std::make_shared<Args>();
+    CLI::App* cmd =
+        addCommand(app, ctx, "prune", "Replace constant or inactive nodes of grids by tiles", true,
+                   [args, &ctx] {
+                       const Args& a = *args;
+                       runEdit(ctx, a.edit, [&](Report& report, const GridBase::Ptr& grid) {
+                           std::string mode = a.mode;
+                           if (mode == "auto")
+                               mode = grid->getGridClass() == GRID_LEVEL_SET ? "levelset" : "value";
+                           if (mode == "levelset") {
+                               withLevelSetGrid(grid, [&](auto& g) {
+                                   report.step("prune level set " + grid->getName(),
+                                               [&] { tools::pruneLevelSet(g.tree()); });
+                               });
+                               return true;
+                           }
+                           withAnyGrid(grid, [&](auto& g) {
+                               using ValueT = typename std::decay_t<decltype(g)>::ValueType;
+                               report.step("prune " + grid->getName(), [&] {
+                                   if (mode == "inactive") {
+                                       tools::pruneInactive(g.tree());
+                                   } else if constexpr (std::is_arithmetic_v<ValueT> &&
+                                                        !std::is_same_v<ValueT, bool>) {
+                                       tools::prune(g.tree(), static_cast<ValueT>(a.tolerance));
+                                   } else {
+                                       tools::prune(g.tree());
+                                   }
+                               });
+                           });
+                           return true;
+                       });
+                   });
+    addEditOptions(*cmd, args->edit);
+    cmd->add_option("--mode", args->mode,
+                    "value: constant nodes (within --tolerance); inactive: nodes with no active "
+                    "value; levelset: inactive nodes as inside/outside tiles; auto: levelset for "
+                    "level sets, else value")
+        ->check(CLI::IsMember({"auto", "value", "inactive", "levelset"}))
+        ->capture_default_str();
+    cmd->add_option("--tolerance", args->tolerance,
+                    "Largest value difference pruned as constant (value mode)")
+        ->check(CLI::Range(0.0, 1e30))
+        ->capture_default_str();
+    cmd->footer("Example:\n  vdb prune density.vdb -o pruned.vdb --tolerance 0.001");
+}
+
+}  // namespace
+
+void addMorphCommands(CLI::App& app, Context& ctx) {
+    addMorphCommand(app, ctx);
+    addFloodFillCommand(app, ctx);
+    addPruneCommand(app, ctx);
+}
+
+}  // namespace vdb::app

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// The subcommands of the `vdb` tool, one Command*.cpp each.
+
+#pragma once
+
+#include "Cli.h"
+
+namespace vdb::app {
+
+void addInfoCommand(CLI::App& app, Context& ctx);
+void addConvertCommand(CLI::App& app, Context& ctx);
+void addCsgCommand(CLI::App& app, Context& ctx);
+void addMorphCommands(CLI::App& app, Context& ctx);  // morph, floodfill, prune
+void addSphereCommand(CLI::App& app, Context& ctx);
+void addAdvectCommands(CLI::App& app, Context& ctx);  // advect, enright
+void addRenderCommand(CLI::App& app, Context& ctx);
+
+}  // namespace vdb::app

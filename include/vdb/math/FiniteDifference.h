@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Finite differences for level sets (paper 3.4 and 4.2): one-sided first, second and third
+/// order differences, Hamilton-Jacobi WENO5 (Jiang and Peng 2000), Godunov's upwind norm of the
+/// gradient for the Eikonal equation, and the scheme enums with OpenVDB's names.
+///
+/// Everything works on one axis at a time, on a line of 7 samples centred on the voxel of
+/// interest: `line[3]` is the centre, `line[3 + d]` the sample d voxels along the axis. The
+/// differences are in index space (divide by the voxel size for world units). Costs are a few
+/// dozen flops per axis; nothing allocates.
+///
+/// @code
+/// std::array<float, 7> line = ...;                                   // phi(i-3) .. phi(i+3)
+/// float dm, dp;
+/// vdb::math::biasedDifferences<vdb::math::HJWENO5_BIAS>(line.data(), dm, dp);
+/// float g2 = vdb::math::godunovNormSqrd(phi0 > 0, dmx, dpx, dmy, dpy, dmz, dpz);
+/// @endcode
+
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+namespace vdb::math {
+
+/// Upwind-biased discretisations of a first derivative (OpenVDB's names). This library
+/// implements FIRST_BIAS, SECOND_BIAS, THIRD_BIAS and HJWENO5_BIAS.
+enum BiasedGradientScheme {
+    UNKNOWN_BIAS,
+    FIRST_BIAS,   ///< first-order one-sided differences, 3-point stencil per axis
+    SECOND_BIAS,  ///< second-order one-sided differences (5 points per axis)
+    THIRD_BIAS,   ///< third-order upwind-biased differences (5 points per axis)
+    WENO5_BIAS,   ///< listed for OpenVDB compatibility; not implemented here
+    HJWENO5_BIAS  ///< fifth-order Hamilton-Jacobi WENO, 7 points per axis (19 in 3D)
+};
+
+/// Explicit total-variation-diminishing Runge-Kutta schemes (Shu and Osher 1988).
+enum TemporalIntegrationScheme {
+    UNKNOWN_TIS,
+    TVD_RK1,  ///< forward Euler
+    TVD_RK2,  ///< Heun: two Euler stages and a convex combination
+    TVD_RK3   ///< third-order, three Euler stages
+};
+
+/// True for the schemes this library implements.
+constexpr bool isSupported(BiasedGradientScheme s) {
+    return s == FIRST_BIAS || s == SECOND_BIAS || s == THIRD_BIAS || s == HJWENO5_BIAS;
+}
+constexpr bool isSupported(TemporalIntegrationScheme s) {
+    return s == TVD_RK1 || s == TVD_RK2 || s == TVD_RK3;
+}
+
+/// Number of Runge-Kutta stages (and of auxiliary buffers the integrator needs: RK1 and RK2
+/// one, RK3 two).
+constexpr int stageCount(TemporalIntegrationScheme s) {
+    return s == TVD_RK3 ? 3 : s == TVD_RK2 ? 2 : 1;
+}
+constexpr int auxBufferCount(TemporalIntegrationScheme s) {
+    return s == TVD_RK3 ? 2 : 1;
+}
+
+/// Half the width of the stencil a scheme reads along each axis.
+constexpr int stencilRadius(BiasedGradientScheme s) {
+    return s == FIRST_BIAS ? 1 : s == HJWENO5_BIAS ? 3 : 2;
+}
+
+inline std::string_view biasedGradientSchemeToString(BiasedGradientScheme s) {
+    switch (s) {
+        case FIRST_BIAS:
+            return "first";
+        case SECOND_BIAS:
+            return "second";
+        case THIRD_BIAS:
+            return "third";
+        case WENO5_BIAS:
+            return "weno5";
+        case HJWENO5_BIAS:
+            return "hjweno5";
+        default:
+            return "unknown";
+    }
+}
+
+inline std::string_view temporalIntegrationSchemeToString(TemporalIntegrationScheme s) {
+    switch (s) {
+        case TVD_RK1:
+            return "tvd rk1";
+        case TVD_RK2:
+            return "tvd rk2";
+        case TVD_RK3:
+            return "tvd rk3";
+        default:
+            return "unknown";
+    }
+}
+
+/// The fifth-order WENO combination of the five consecutive differences v1..v5 (v3 the one
+/// ending at the centre for the backward derivative): three third-order candidates weighted by
+/// their smoothness, with ideal weights 0.1, 0.6 and 0.3. `scale2` is a squared magnitude
+/// typical of the differences; the smoothness regulariser is 1e-6 * scale2 plus a floor whose
+/// fourth power is still a normal number of type T (1e-9 for float, 1e-30 for double), so the
+/// weights stay finite where the differences vanish.
+template <typename T>
+inline T weno5(T v1, T v2, T v3, T v4, T v5, T scale2) {
+    const T c13 = T(13) / T(12);
+    const T floor = sizeof(T) <= 4 ? T(1.0e-9) : T(1.0e-30);
+    const T eps = T(1.0e-6) * scale2 + floor;
+    const T a = v1 - T(2) * v2 + v3, b = v1 - T(4) * v2 + T(3) * v3;
+    const T c = v2 - T(2) * v3 + v4, d = v2 - v4;
+    const T e = v3 - T(2) * v4 + v5, f = T(3) * v3 - T(4) * v4 + v5;
+    const T s1 = c13 * a * a + T(0.25) * b * b + eps;
+    const T s2 = c13 * c * c + T(0.25) * d * d + eps;
+    const T s3 = c13 * e * e + T(0.25) * f * f + eps;
+    const T a1 = T(0.1) / (s1 * s1), a2 = T(0.6) / (s2 * s2), a3 = T(0.3) / (s3 * s3);
+    const T p1 = v1 * (T(2) / T(6)) - v2 * (T(7) / T(6)) + v3 * (T(11) / T(6));
+    const T p2 = -v2 * (T(1) / T(6)) + v3 * (T(5) / T(6)) + v4 * (T(2) / T(6));
+    const T p3 = v3 * (T(2) / T(6)) + v4 * (T(5) / T(6)) - v5 * (T(1) / T(6));
+    return (a1 * p1 + a2 * p2 + a3 * p3) / (a1 + a2 + a3);
+}
+
+/// The backward (D-) and forward (D+) index-space derivatives at `line[3]` under `Scheme`.
+/// `line` points at 7 samples; FIRST_BIAS reads line[2..4], SECOND and THIRD line[1..5].
+template <BiasedGradientScheme Scheme, typename T>
+inline void biasedDifferences(const T* line, T& dm, T& dp) {
+    static_assert(Scheme == FIRST_BIAS || Scheme == SECOND_BIAS || Scheme == THIRD_BIAS ||
+                      Scheme == HJWENO5_BIAS,
+                  "biasedDifferences implements FIRST_BIAS, SECOND_BIAS, THIRD_BIAS, HJWENO5_BIAS");
+    if constexpr (Scheme == FIRST_BIAS) {
+        dm = line[3] - line[2];
+        dp = line[4] - line[3];
+    } else if constexpr (Scheme == SECOND_BIAS) {
+        dm = T(0.5) * (T(3) * line[3] - T(4) * line[2] + line[1]);
+        dp = T(0.5) * (-T(3) * line[3] + T(4) * line[4] - line[5]);
+    } else if constexpr (Scheme == THIRD_BIAS) {
+        dm = (T(2) * line[4] + T(3) * line[3] - T(6) * line[2] + line[1]) / T(6);
+        dp = (-T(2) * line[2] - T(3) * line[3] + T(6) * line[4] - line[5]) / T(6);
+    } else {
+        const T d0 = line[1] - line[0], d1 = line[2] - line[1], d2 = line[3] - line[2];
+        const T d3 = line[4] - line[3], d4 = line[5] - line[4], d5 = line[6] - line[5];
+        const T scale2 = std::max({d0 * d0, d1 * d1, d2 * d2, d3 * d3, d4 * d4, d5 * d5});
+        dm = weno5(d0, d1, d2, d3, d4, scale2);
+        dp = weno5(d5, d4, d3, d2, d1, scale2);
+    }
+}
+
+/// The upwind derivative for a velocity component `v`: D- where v > 0, D+ otherwise.
+template <typename T>
+inline T upwind(T v, T dm, T dp) {
+    return v > T(0) ? dm : dp;
+}
+
+/// Godunov's Hamiltonian for |grad phi|^2 from the one-sided derivatives of the three axes
+/// (Rouy and Tourin; Peng et al. 1999): where phi > 0 (`outside`) information flows outward,
+/// so each axis takes max(max(D-, 0)^2, min(D+, 0)^2); inside the signs swap.
+template <typename T>
+inline T godunovNormSqrd(bool outside, T dmx, T dpx, T dmy, T dpy, T dmz, T dpz) {
+    const T z(0);
+    if (outside) {
+        return std::max(std::max(dmx, z) * std::max(dmx, z), std::min(dpx, z) * std::min(dpx, z)) +
+               std::max(std::max(dmy, z) * std::max(dmy, z), std::min(dpy, z) * std::min(dpy, z)) +
+               std::max(std::max(dmz, z) * std::max(dmz, z), std::min(dpz, z) * std::min(dpz, z));
+    }
+    return std::max(std::min(dmx, z) * std::min(dmx, z), std::max(dpx, z) * std::max(dpx, z)) +
+           std::max(std::min(dmy, z) * std::min(dmy, z), std::max(dpy, z) * std::max(dpy, z)) +
+           std::max(std::min(dmz, z) * std::min(dmz, z), std::max(dpz, z) * std::max(dpz, z));
+}
+
+/// Second-order central first derivative at `line[3]`.
+template <typename T>
+inline T centralDifference(const T* line) {
+    return T(0.5) * (line[4] - line[2]);
+}
+
+/// Second-order central second derivative at `line[3]`.
+template <typename T>
+inline T secondDifference(const T* line) {
+    return line[4] + line[2] - T(2) * line[3];
+}
+
+}  // namespace vdb::math

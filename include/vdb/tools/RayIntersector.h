@@ -1,0 +1,450 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Ray intersection with VDB grids, accelerated by the tree (paper section 4.7): the first
+/// crossing of a level set's zero surface (LevelSetRayIntersector), and the spans of a ray
+/// that cross active values of a volume (VolumeRayIntersector).
+///
+/// Both walk the ray with math::HierarchicalDDA, which leaps over tiles and empty regions at
+/// the level of the tree that stores them; only leaves are walked voxel by voxel.
+///
+/// Level sets: inside each leaf the ray is cut where it crosses the planes through voxel
+/// centres, so that each piece lies in one trilinear cell, and the trilinear interpolant
+/// (tools/BoxSampler) is evaluated at the cuts. The first piece whose ends differ in sign
+/// holds the crossing; regula falsi (Illinois) on the interpolant refines it to 1e-6 voxels.
+/// Tiles are constant, so a sign change between a tile and its neighbour is caught at their
+/// common boundary. The normal is the normalized gradient of the trilinear interpolant.
+/// Crossings that enter and leave one trilinear cell (grazing rays) are not reported.
+///
+/// @code
+/// vdb::tools::LevelSetRayIntersector<vdb::FloatGrid> intersector(*sphere);
+/// vdb::math::Ray<double> ray(vdb::Vec3d(0, 0, -5), vdb::Vec3d(0, 0, 1));
+/// vdb::Vec3d xyz, normal;
+/// double t;
+/// if (intersector.intersectsWS(ray, xyz, normal, t)) { ... }  // world space
+///
+/// vdb::tools::VolumeRayIntersector<vdb::FloatGrid> volume(*fog);
+/// if (volume.setWorldRay(ray)) {
+///     double t0, t1;
+///     while (volume.march(t0, t1)) { ... }  // index-space times of the active spans
+/// }
+/// @endcode
+///
+/// Cost: one hierarchical DDA step per tree region crossed, and in leaves one trilinear sample
+/// per voxel-centre plane crossed. Threads: an intersector caches the tree path of its last
+/// query, so it is not thread-safe; copies are cheap, so use one per thread.
+
+#pragma once
+
+#include <vdb/Exceptions.h>
+#include <vdb/Grid.h>
+#include <vdb/Types.h>
+#include <vdb/math/BBox.h>
+#include <vdb/math/Coord.h>
+#include <vdb/math/DDA.h>
+#include <vdb/math/Ray.h>
+#include <vdb/math/Transform.h>
+#include <vdb/math/Vec3.h>
+#include <vdb/tools/Interpolation.h>
+#include <vdb/tree/ValueAccessor.h>
+
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace vdb::tools {
+
+/// Finds where rays first cross the iso-surface (by default the zero level) of a narrow-band
+/// level set grid with cubic voxels.
+///
+/// Index-space entry points take a ray in the grid's index space and report index-space
+/// points and times; world-space entry points (intersectsWS) take and report world space.
+/// A ray counts from its own t0 to its t1, clipped to the bounding box of the active voxels.
+///
+/// Invariant: the grid (and its tree) outlives the intersector and is not modified while in use.
+/// Threads: not thread-safe (it caches the last tree path); copy it for each thread.
+template <typename GridT>
+class LevelSetRayIntersector {
+public:
+    using GridType = GridT;
+    using TreeType = typename GridT::TreeType;
+    using ValueType = typename GridT::ValueType;
+    using RayType = math::Ray<double>;
+    static_assert(std::is_floating_point_v<ValueType>,
+                  "level set intersection needs a grid of floating-point values");
+
+    /// @throw ValueError when the grid's voxels are not cubes (a rotation and one scale), or
+    ///   when it is not a level set grid (getGridClass() != GRID_LEVEL_SET).
+    explicit LevelSetRayIntersector(const GridT& grid, ValueType isoValue = ValueType(0));
+
+    const GridT& grid() const { return *mGrid; }
+    ValueType getIsoValue() const { return mIsoValue; }
+    /// The index-space box rays are clipped to: the active voxels, one voxel wider.
+    const BBoxd& indexBBox() const { return mBBox; }
+
+    // ---- Index space
+    bool intersectsIS(const RayType& iRay) const {
+        double t;
+        return march(iRay, t);
+    }
+    /// On a hit, `iTime` is the index-space time of the crossing on `iRay`.
+    bool intersectsIS(const RayType& iRay, double& iTime) const { return march(iRay, iTime); }
+    /// On a hit, `xyz` is the index-space crossing point.
+    bool intersectsIS(const RayType& iRay, Vec3d& xyz) const {
+        double t;
+        return intersectsIS(iRay, xyz, t);
+    }
+    bool intersectsIS(const RayType& iRay, Vec3d& xyz, double& iTime) const {
+        if (!march(iRay, iTime))
+            return false;
+        xyz = iRay(iTime);
+        return true;
+    }
+    /// The unit normal (index space, pointing towards positive values) at the index point `xyz`.
+    Vec3d indexNormal(const Vec3d& xyz) const;
+
+    // ---- World space
+    bool intersectsWS(const RayType& wRay) const {
+        double t;
+        return march(wRay.worldToIndex(mGrid->transform()), t);
+    }
+    /// On a hit, `wTime` is the world-space time of the crossing on `wRay`.
+    bool intersectsWS(const RayType& wRay, double& wTime) const {
+        Vec3d xyz;
+        return intersectsWS(wRay, xyz, wTime);
+    }
+    /// On a hit, `xyz` is the world-space crossing point.
+    bool intersectsWS(const RayType& wRay, Vec3d& xyz) const {
+        double t;
+        return intersectsWS(wRay, xyz, t);
+    }
+    bool intersectsWS(const RayType& wRay, Vec3d& xyz, double& wTime) const;
+    /// On a hit, `normal` is the world-space unit normal there (pointing outwards, towards
+    /// positive values).
+    bool intersectsWS(const RayType& wRay, Vec3d& xyz, Vec3d& normal) const {
+        double t;
+        return intersectsWS(wRay, xyz, normal, t);
+    }
+    bool intersectsWS(const RayType& wRay, Vec3d& xyz, Vec3d& normal, double& wTime) const;
+
+private:
+    using Accessor = tree::ValueAccessor<const TreeType>;
+    using HDDA = math::HierarchicalDDA<TreeType>;
+    using LeafT = typename TreeType::LeafNodeType;
+
+    // The core: the index time of the first crossing of `iRay`, or false.
+    bool march(const RayType& iRay, double& iTime) const;
+    // The trilinear interpolant minus the iso-value at index point p.
+    double field(const Vec3d& p) const;
+    // Refines a crossing bracketed by (ta, fa) and (tb, fb), fa and fb of opposite signs.
+    double refine(const RayType& ray, double ta, double fa, double tb, double fb) const;
+
+    const GridT* mGrid;
+    ValueType mIsoValue;
+    BBoxd mBBox;
+    mutable Accessor mAcc;
+    mutable HDDA mHdda;
+};
+
+/// Cuts rays into the spans that cross active values of a volume (a fog volume, a density
+/// grid), for volume rendering.
+///
+/// The walk is voxel-centred: the span of voxel v is the part of the ray nearest to v, the
+/// cube [v - 0.5, v + 0.5), so that sampling a span with BoxSampler reads the voxels it belongs
+/// to. A span is either a run of leaves (values vary: sample them) or one active tile (the
+/// value is constant over the whole span: no sampling needed); inactive tiles and empty regions
+/// are leapt over. The span times are index-space times on the index ray.
+///
+/// Invariant: the grid outlives the intersector and is not modified while in use.
+/// Threads: not thread-safe; copy it for each thread.
+template <typename GridT>
+class VolumeRayIntersector {
+public:
+    using GridType = GridT;
+    using TreeType = typename GridT::TreeType;
+    using ValueType = typename GridT::ValueType;
+    using RayType = math::Ray<double>;
+
+    /// One span of active values along the ray.
+    struct Segment {
+        double t0 = 0, t1 = 0;  ///< index-space times
+        bool constant = false;  ///< true for an active tile: the value is `value` throughout
+        ValueType value{};      ///< the tile's value when `constant`
+        Index level = 0;        ///< 0 for leaves, else the level of the node holding the tile
+        Index log2Dim = 0;      ///< log2 of the edge of the tile (of the leaves when 0 level)
+    };
+
+    explicit VolumeRayIntersector(const GridT& grid);
+
+    const GridT& grid() const { return *mGrid; }
+    /// The index-space box rays are clipped to: the active voxels, half a voxel wider.
+    const BBoxd& indexBBox() const { return mBBox; }
+
+    /// Starts marching `iRay` (index space); false when it misses the active voxels.
+    bool setIndexRay(const RayType& iRay);
+    /// Starts marching `wRay`, converted to index space; false when it misses.
+    bool setWorldRay(const RayType& wRay) {
+        return setIndexRay(wRay.worldToIndex(mGrid->transform()));
+    }
+    /// The index-space ray of the current march.
+    const RayType& getIndexRay() const { return mRay; }
+
+    /// Reports the next span of active values: consecutive leaves as one span, each active tile
+    /// as its own. Returns false when the ray has no more.
+    bool march(Segment& segment);
+    /// Reports the next maximal run of active values, leaves and active tiles merged, as
+    /// index-space times [t0, t1].
+    bool march(double& t0, double& t1);
+
+private:
+    using HDDA = math::HierarchicalDDA<TreeType>;
+    using Span = typename HDDA::Span;
+
+    // Fetches the next non-empty region into mPending; false at the end of the ray.
+    bool fetch();
+
+    const GridT* mGrid;
+    BBoxd mBBox;
+    HDDA mHdda;
+    RayType mRay;
+    Span mPending;
+    bool mHasPending = false;
+    bool mValid = false;
+};
+
+// ---- Implementation ---------------------------------------------------------------------------
+
+namespace detail {
+
+/// Throws unless `grid` has cubic voxels under a linear transform.
+template <typename GridT>
+void requireUniformVoxels(const GridT& grid, const char* who) {
+    if (!grid.transform().hasUniformScale())
+        throw ValueError(std::string(who) + ": the grid's voxels must be cubes (uniform scale)");
+}
+
+/// The index-space box of `tree`'s active voxels widened by `pad` voxels on every side, in
+/// the voxel-centred convention (voxel v covers [v - 0.5, v + 0.5]). Empty for an empty tree.
+template <typename TreeT>
+BBoxd paddedActiveBBox(const TreeT& tree, double pad) {
+    CoordBBox box;
+    if (!tree.evalActiveVoxelBoundingBox(box))
+        return BBoxd();
+    return BBoxd(Vec3d(box.min()) - (0.5 + pad), Vec3d(box.max()) + (0.5 + pad));
+}
+
+}  // namespace detail
+
+template <typename GridT>
+LevelSetRayIntersector<GridT>::LevelSetRayIntersector(const GridT& grid, ValueType isoValue)
+    : mGrid(&grid),
+      mIsoValue(isoValue),
+      mBBox(detail::paddedActiveBBox(grid.tree(), 1.0)),
+      mAcc(grid.tree()),
+      mHdda(grid.tree()) {
+    detail::requireUniformVoxels(grid, "LevelSetRayIntersector");
+    if (grid.getGridClass() != GRID_LEVEL_SET)
+        throw ValueError("LevelSetRayIntersector: the grid is not a level set");
+}
+
+template <typename GridT>
+double LevelSetRayIntersector<GridT>::field(const Vec3d& p) const {
+    return double(BoxSampler::sample(mAcc, p)) - double(mIsoValue);
+}
+
+template <typename GridT>
+double LevelSetRayIntersector<GridT>::refine(const RayType& ray, double ta, double fa, double tb,
+                                             double fb) const {
+    // Illinois regula falsi: the secant, with the retained end's value halved whenever the
+    // same end is kept twice, so that convergence stays superlinear.
+    int side = 0;
+    for (int iter = 0; iter < 40 && tb - ta > 1e-6; ++iter) {
+        const double t = (ta * fb - tb * fa) / (fb - fa);
+        const double f = field(ray(t));
+        if (f == 0.0)
+            return t;
+        if ((f < 0.0) == (fa < 0.0)) {
+            ta = t;
+            fa = f;
+            if (side == -1)
+                fb *= 0.5;
+            side = -1;
+        } else {
+            tb = t;
+            fb = f;
+            if (side == 1)
+                fa *= 0.5;
+            side = 1;
+        }
+    }
+    return (ta * fb - tb * fa) / (fb - fa);
+}
+
+template <typename GridT>
+bool LevelSetRayIntersector<GridT>::march(const RayType& iRay, double& iTime) const {
+    RayType ray(iRay);
+    if (!ray.clip(mBBox))
+        return false;
+    // The walk is node-centred: voxel v owns [v, v + 1); the trilinear cell with lower corner v
+    // is that same cube, so the planes the voxel DDA crosses are the cell boundaries.
+    if (!mHdda.init(ray, ray.t0(), ray.t1()))
+        return false;
+    bool havePrev = false;
+    double prevT = 0.0, prevF = 0.0;
+    // Records the sample (t, f); returns true when it closes a sign change.
+    auto sample = [&](double t, double f) {
+        if (havePrev && ((f < 0.0) != (prevF < 0.0))) {
+            iTime = f == 0.0 ? t : refine(ray, prevT, prevF, t, f);
+            return true;
+        }
+        havePrev = true;
+        prevT = t;
+        prevF = f;
+        return false;
+    };
+    typename HDDA::Span span;
+    bool lastWasLeaf = false;
+    while (mHdda.next(span)) {
+        lastWasLeaf = span.leaf != nullptr;
+        if (!span.leaf) {
+            // A tile or the background: one value over the whole region.
+            if (sample(span.t0, double(span.value) - double(mIsoValue)))
+                return true;
+            prevT = span.t1;
+            continue;
+        }
+        // Sample at the span's start and at every cell boundary inside it.
+        if (sample(span.t0, field(ray(span.t0))))
+            return true;
+        math::DDA<double, 0> dda(ray, span.t0, span.t1);
+        while (dda.step()) {
+            const double t = dda.time();
+            if (sample(t, field(ray(t))))
+                return true;
+        }
+    }
+    if (lastWasLeaf) {
+        const double t = mHdda.endTime();
+        if (sample(t, field(ray(t))))
+            return true;
+    }
+    return false;
+}
+
+template <typename GridT>
+Vec3d LevelSetRayIntersector<GridT>::indexNormal(const Vec3d& xyz) const {
+    return BoxSampler::gradient(mAcc, xyz).unitSafe();
+}
+
+template <typename GridT>
+bool LevelSetRayIntersector<GridT>::intersectsWS(const RayType& wRay, Vec3d& xyz,
+                                                 double& wTime) const {
+    const math::Transform& xform = mGrid->transform();
+    const RayType iRay = wRay.worldToIndex(xform);
+    double t;
+    if (!march(iRay, t))
+        return false;
+    xyz = xform.indexToWorld(iRay(t));
+    // The world time of that point on wRay (the index ray's direction was normalized).
+    wTime = (xyz - wRay.eye()).dot(wRay.dir()) / wRay.dir().lengthSqr();
+    return true;
+}
+
+template <typename GridT>
+bool LevelSetRayIntersector<GridT>::intersectsWS(const RayType& wRay, Vec3d& xyz, Vec3d& normal,
+                                                 double& wTime) const {
+    const math::Transform& xform = mGrid->transform();
+    const RayType iRay = wRay.worldToIndex(xform);
+    double t;
+    if (!march(iRay, t))
+        return false;
+    const Vec3d ijk = iRay(t);
+    xyz = xform.indexToWorld(ijk);
+    wTime = (xyz - wRay.eye()).dot(wRay.dir()) / wRay.dir().lengthSqr();
+    // With cubic voxels the inverse transpose of the linear part is a multiple of it.
+    normal = xform.indexToWorldDirection(BoxSampler::gradient(mAcc, ijk)).unitSafe();
+    return true;
+}
+
+template <typename GridT>
+VolumeRayIntersector<GridT>::VolumeRayIntersector(const GridT& grid)
+    : mGrid(&grid), mBBox(detail::paddedActiveBBox(grid.tree(), 0.0)), mHdda(grid.tree()) {
+    detail::requireUniformVoxels(grid, "VolumeRayIntersector");
+}
+
+template <typename GridT>
+bool VolumeRayIntersector<GridT>::setIndexRay(const RayType& iRay) {
+    mRay = iRay;
+    mHasPending = false;
+    mValid = false;
+    RayType clipped(iRay);
+    if (!clipped.clip(mBBox))
+        return false;
+    // Shift by half a voxel: the walker's node-centred cube of v, [v, v + 1), becomes the
+    // voxel-centred [v - 0.5, v + 0.5). Times are unchanged by a translation.
+    const RayType shifted(iRay.eye() + 0.5, iRay.dir(), clipped.t0(), clipped.t1());
+    mValid = mHdda.init(shifted);
+    return mValid;
+}
+
+template <typename GridT>
+bool VolumeRayIntersector<GridT>::fetch() {
+    while (mHdda.next(mPending)) {
+        if (mPending.t1 > mPending.t0 && (mPending.leaf || mPending.active))
+            return true;
+    }
+    return false;
+}
+
+template <typename GridT>
+bool VolumeRayIntersector<GridT>::march(Segment& segment) {
+    if (!mValid)
+        return false;
+    if (!mHasPending && !fetch()) {
+        mValid = false;
+        return false;
+    }
+    mHasPending = false;
+    segment.t0 = mPending.t0;
+    segment.t1 = mPending.t1;
+    segment.level = mPending.level;
+    segment.log2Dim = mPending.log2Dim;
+    segment.constant = mPending.leaf == nullptr;
+    segment.value = segment.constant ? mPending.value : ValueType{};
+    if (segment.constant)
+        return true;
+    // Merge the leaves that follow without a gap.
+    while (fetch()) {
+        if (mPending.leaf && mPending.t0 <= segment.t1) {
+            segment.t1 = mPending.t1;
+            continue;
+        }
+        mHasPending = true;
+        break;
+    }
+    return true;
+}
+
+template <typename GridT>
+bool VolumeRayIntersector<GridT>::march(double& t0, double& t1) {
+    Segment s;
+    if (!march(s))
+        return false;
+    t0 = s.t0;
+    t1 = s.t1;
+    // Merge whatever follows without a gap.
+    while (mValid) {
+        if (!mHasPending && !fetch()) {
+            mValid = false;
+            break;
+        }
+        if (mPending.t0 > t1) {
+            mHasPending = true;
+            break;
+        }
+        t1 = mPending.t1;
+        mHasPending = false;
+    }
+    return true;
+}
+
+}  // namespace vdb::tools

@@ -1,0 +1,310 @@
+// SPDX-License-Identifier: Apache-2.0
+// End-to-end tests of the `vdb` command-line tool: each subcommand runs on small inputs in a
+// temporary folder and its output is read back with the library and compared with the same
+// operation done through the library (or with analytic values); bad inputs must give one
+// error line, a non-zero exit status and no output file.
+
+#include <vdb/io/File.h>
+#include <vdb/tools/Composite.h>
+#include <vdb/tools/LevelSetSphere.h>
+#include <vdb/tools/Morphology.h>
+#include <vdb/tools/Prune.h>
+
+#include "GridContents.h"
+#include "ToolRunner.h"
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace vdb {
+namespace {
+
+namespace fs = std::filesystem;
+using test::Result;
+
+class Cli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        mDir = fs::path(test::tempPath("vdb-cli-", info->name()));
+        fs::create_directories(mDir);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(mDir, ec);
+    }
+
+    std::string path(const std::string& name) const { return (mDir / name).string(); }
+
+    pid_t spawn(const std::vector<std::string>& args) {
+        return test::spawnTool(VDB_TOOL_PATH, args, mDir.string());
+    }
+    Result wait(pid_t pid) { return test::waitTool(pid, mDir.string()); }
+    Result run(const std::vector<std::string>& args) { return wait(spawn(args)); }
+
+    /// Runs a command that must succeed.
+    Result ok(const std::vector<std::string>& args) {
+        Result r = run(args);
+        EXPECT_EQ(r.status, 0) << "stderr: " << r.err;
+        return r;
+    }
+
+    /// Runs a command that must fail with `status`, one error line naming `needle`, and no
+    /// new file in the test folder.
+    void fails(const std::vector<std::string>& args, int status, const std::string& needle) {
+        std::vector<std::string> before;
+        for (const auto& e : fs::directory_iterator(mDir))
+            before.push_back(e.path().filename().string());
+        const Result r = run(args);
+        EXPECT_EQ(r.status, status) << "stderr: " << r.err;
+        EXPECT_NE(r.err.find("error:"), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(needle), std::string::npos)
+            << "expected '" << needle << "' in: " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1)
+            << "one line expected: " << r.err;
+        std::vector<std::string> after;
+        for (const auto& e : fs::directory_iterator(mDir))
+            after.push_back(e.path().filename().string());
+        std::sort(before.begin(), before.end());
+        std::sort(after.begin(), after.end());
+        EXPECT_EQ(before, after) << "the failed command left files behind";
+    }
+
+    /// Writes a sphere of radius `r` (world units) at `center`, voxel size 0.1, half width 3.
+    FloatGrid::Ptr writeSphere(const std::string& name, float r, Vec3f center) {
+        auto grid = tools::createLevelSetSphere<FloatGrid>(r, center, 0.1f, 3.0f);
+        grid->setName("sphere");
+        io::File(path(name)).write(GridPtrVec{grid});
+        return grid;
+    }
+
+    static GridBase::Ptr readFirst(const std::string& file) {
+        io::File in(file);
+        in.open();
+        auto grids = in.getGrids();
+        EXPECT_FALSE(grids->empty());
+        return grids->empty() ? nullptr : grids->front();
+    }
+
+    template <typename TreeT>
+    static void expectSameVoxels(const TreeT& a, const TreeT& b) {
+        EXPECT_EQ(a.activeVoxelCount(), b.activeVoxelCount());
+        for (auto it = a.cbeginValueOn(); it; ++it) {
+            ASSERT_TRUE(b.isValueOn(it.getCoord())) << it.getCoord();
+            ASSERT_EQ(b.getValue(it.getCoord()), *it) << it.getCoord();
+        }
+    }
+
+    fs::path mDir;
+};
+
+TEST_F(Cli, SphereWritesTheLevelSetTheLibraryBuilds) {
+    const Result r = ok({"sphere", "-o", path("s.vdb"), "--radius", "1.5", "--center", "0.5,0,-1",
+                         "--voxel-size", "0.1", "--half-width", "3", "--name", "ball"});
+    EXPECT_NE(r.out.find("active voxels"), std::string::npos) << r.out;
+    auto grid = gridPtrCast<FloatGrid>(readFirst(path("s.vdb")));
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->getName(), "ball");
+    EXPECT_EQ(grid->getGridClass(), GRID_LEVEL_SET);
+    auto expected = tools::createLevelSetSphere<FloatGrid>(1.5f, Vec3f(0.5f, 0, -1), 0.1f, 3.0f);
+    expectSameVoxels(grid->tree(), expected->tree());
+    // Analytic check: every active value is the distance to the sphere within a voxel's rounding.
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+        const Vec3d xyz = grid->indexToWorld(Vec3d(it.getCoord()));
+        const double d = std::sqrt((xyz[0] - 0.5) * (xyz[0] - 0.5) + xyz[1] * xyz[1] +
+                                   (xyz[2] + 1) * (xyz[2] + 1)) -
+                         1.5;
+        ASSERT_NEAR(*it, d, 1e-5);
+    }
+}
+
+TEST_F(Cli, InfoReportsCountsInTextAndJson) {
+    auto grid = writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    const std::string count = std::to_string(grid->activeVoxelCount());
+    const Result text = ok({"info", "-l", path("s.vdb")});
+    EXPECT_NE(text.out.find("sphere"), std::string::npos);
+    EXPECT_NE(text.out.find("Tree_float_5_4_3"), std::string::npos);
+    EXPECT_NE(text.out.find("level set"), std::string::npos);
+    const Result json = ok({"info", "--json", path("s.vdb")});
+    EXPECT_NE(json.out.find("\"activeVoxels\": " + count), std::string::npos) << json.out;
+    EXPECT_NE(json.out.find("\"leaves\": " + std::to_string(grid->leafCount())), std::string::npos);
+    EXPECT_NE(json.out.find("\"name\": \"sphere\""), std::string::npos);
+    EXPECT_EQ(json.out.front(), '{');
+}
+
+TEST_F(Cli, MorphDilatesAndErodesAsTheLibraryDoes) {
+    auto grid = writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    ok({"morph", "dilate", "2", path("s.vdb"), "-o", path("d.vdb"), "--nn", "vertex"});
+    auto dilated = gridPtrCast<FloatGrid>(readFirst(path("d.vdb")));
+    ASSERT_TRUE(dilated);
+    auto expected = grid->deepCopy();
+    tools::dilateActiveValues(expected->tree(), 2, tools::NN_FACE_EDGE_VERTEX);
+    expectSameVoxels(dilated->tree(), expected->tree());
+    EXPECT_GT(dilated->activeVoxelCount(), grid->activeVoxelCount());
+
+    ok({"morph", "erode", "1", path("s.vdb"), "-o", path("e.vdb")});
+    auto eroded = gridPtrCast<FloatGrid>(readFirst(path("e.vdb")));
+    ASSERT_TRUE(eroded);
+    expected = grid->deepCopy();
+    tools::erodeActiveValues(expected->tree(), 1, tools::NN_FACE);
+    expectSameVoxels(eroded->tree(), expected->tree());
+    EXPECT_LT(eroded->activeVoxelCount(), grid->activeVoxelCount());
+}
+
+TEST_F(Cli, FloodFillSignsTheInsideOfABand) {
+    // The band of a sphere with every inactive value at +background: the inside is unsigned.
+    auto sphere = tools::createLevelSetSphere<FloatGrid>(1.0f, Vec3f(0.0f), 0.1f, 3.0f);
+    auto band = FloatGrid::create(sphere->background());
+    band->setTransform(sphere->transform().copy());
+    band->setGridClass(GRID_LEVEL_SET);
+    band->setName("band");
+    for (auto it = sphere->cbeginValueOn(); it; ++it)
+        band->tree().setValueOn(it.getCoord(), *it);
+    io::File(path("band.vdb")).write(GridPtrVec{band});
+    ASSERT_GT(band->tree().getValue(Coord(0, 0, 0)), 0.0f);
+
+    ok({"floodfill", path("band.vdb"), "-o", path("filled.vdb")});
+    auto filled = gridPtrCast<FloatGrid>(readFirst(path("filled.vdb")));
+    ASSERT_TRUE(filled);
+    EXPECT_EQ(filled->tree().getValue(Coord(0, 0, 0)), -sphere->background());
+    EXPECT_EQ(filled->tree().getValue(Coord(30, 0, 0)), sphere->background());
+    expectSameVoxels(filled->tree(), band->tree());
+}
+
+TEST_F(Cli, PruneCollapsesConstantLeavesAndKeepsValues) {
+    auto grid = FloatGrid::create(0.0f);
+    grid->setName("density");
+    grid->tree().fill(CoordBBox(Coord(0), Coord(15)), 2.0f, true);
+    grid->tree().setValueOn(Coord(100, 0, 0), 1.0f);
+    // fill() may already make tiles; make sure leaves exist by touching them.
+    for (int i = 0; i < 16; i += 8)
+        for (int j = 0; j < 16; j += 8)
+            for (int k = 0; k < 16; k += 8)
+                grid->tree().touchLeaf(Coord(i, j, k));
+    const Index32 leavesBefore = grid->leafCount();
+    io::File(path("in.vdb")).write(GridPtrVec{grid});
+    ok({"prune", path("in.vdb"), "-o", path("out.vdb")});
+    auto pruned = gridPtrCast<FloatGrid>(readFirst(path("out.vdb")));
+    ASSERT_TRUE(pruned);
+    EXPECT_EQ(pruned->leafCount(), 1u);
+    EXPECT_LT(pruned->leafCount(), leavesBefore);
+    EXPECT_EQ(pruned->activeVoxelCount(), grid->activeVoxelCount());
+    EXPECT_EQ(pruned->tree().getValue(Coord(5, 9, 3)), 2.0f);
+    EXPECT_EQ(pruned->tree().getValue(Coord(100, 0, 0)), 1.0f);
+}
+
+TEST_F(Cli, CsgMatchesTheLibraryAndTheAnalyticUnion) {
+    auto a = writeSphere("a.vdb", 1.0f, Vec3f(0.0f));
+    auto b = writeSphere("b.vdb", 1.0f, Vec3f(0.8f, 0, 0));
+    for (const std::string op : {"union", "intersection", "difference"}) {
+        ok({"csg", op, path("a.vdb"), path("b.vdb"), "-o", path(op + ".vdb")});
+        auto result = gridPtrCast<FloatGrid>(readFirst(path(op + ".vdb")));
+        ASSERT_TRUE(result);
+        auto expected = op == "union"          ? tools::csgUnionCopy(*a, *b)
+                        : op == "intersection" ? tools::csgIntersectionCopy(*a, *b)
+                                               : tools::csgDifferenceCopy(*a, *b);
+        expectSameVoxels(result->tree(), expected->tree());
+    }
+    // The union's zero crossing lies on the analytic union of the two spheres.
+    auto u = gridPtrCast<FloatGrid>(readFirst(path("union.vdb")));
+    EXPECT_NEAR(u->tree().getValue(Coord(18, 0, 0)), 0.0f, 1e-5f);   // x = 1.8: right surface
+    EXPECT_NEAR(u->tree().getValue(Coord(-10, 0, 0)), 0.0f, 1e-5f);  // x = -1: left surface
+    EXPECT_LT(u->tree().getValue(Coord(9, 0, 0)), 0.0f);             // inside both
+}
+
+TEST_F(Cli, ConvertChangesStorageButNotTheGrid) {
+    auto grid = writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    ok({"convert", path("s.vdb"), "-o", path("raw.vdb"), "--compression", "none"});
+    ok({"convert", path("s.vdb"), "-o", path("half.vdb"), "--compression", "zip", "--half"});
+    auto raw = gridPtrCast<FloatGrid>(readFirst(path("raw.vdb")));
+    auto half = gridPtrCast<FloatGrid>(readFirst(path("half.vdb")));
+    ASSERT_TRUE(raw && half);
+    expectSameVoxels(raw->tree(), grid->tree());
+    EXPECT_TRUE(half->saveFloatAsHalf());
+    EXPECT_EQ(half->activeVoxelCount(), grid->activeVoxelCount());
+    for (auto it = grid->cbeginValueOn(); it; ++it)
+        ASSERT_NEAR(half->tree().getValue(it.getCoord()), *it, 1e-3f * std::abs(*it) + 1e-6f);
+    EXPECT_LT(fs::file_size(path("half.vdb")), fs::file_size(path("raw.vdb")));
+}
+
+TEST_F(Cli, EveryCommandHasHelpWithExamples) {
+    for (const std::string cmd :
+         {"info", "sphere", "morph", "floodfill", "prune", "csg", "convert"}) {
+        const Result r = ok({cmd, "--help"});
+        EXPECT_NE(r.out.find("Example"), std::string::npos) << cmd;
+        EXPECT_NE(r.out.find("--threads"), std::string::npos) << cmd;
+    }
+    const Result top = ok({"--help"});
+    EXPECT_NE(top.out.find("csg"), std::string::npos);
+}
+
+TEST_F(Cli, BadInputsGiveOneErrorLineAndNoOutput) {
+    writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    {
+        std::ofstream junk(path("junk.vdb"), std::ios::binary);
+        junk << "this is not a vdb file, only some text that is long enough";
+    }
+    const std::string out = path("out.vdb");
+    fails({"info", path("missing.vdb")}, 1, "missing.vdb");
+    fails({"info", path("junk.vdb")}, 1, "junk.vdb");
+    fails({"morph", "dilate", "1", path("junk.vdb"), "-o", out}, 1, "junk.vdb");
+    fails({"morph", "grow", "1", path("s.vdb"), "-o", out}, 2, "grow");
+    fails({"morph", "dilate", "0", path("s.vdb"), "-o", out}, 2, "iterations");
+    fails({"morph", "dilate", "1", path("s.vdb"), "-o", path("no/such/dir/out.vdb")}, 2,
+          "does not exist");
+    fails({"morph", "dilate", "1", path("s.vdb"), "-o", out, "--grid", "nope"}, 2, "nope");
+    fails({"prune", path("missing.vdb"), "-o", out}, 1, "missing.vdb");
+    fails({"floodfill", path("s.vdb")}, 2, "--output");
+    fails({"convert", path("s.vdb"), "-o", out, "--compression", "lzma"}, 2, "lzma");
+    fails({"convert", path("s.vdb"), "-o", out, "--half", "--full"}, 2, "--full");
+    fails({"sphere", "-o", out, "--radius", "-1"}, 2, "radius");
+    fails({"sphere", "-o", out, "--radius", "1000", "--voxel-size", "0.0001"}, 2, "memory");
+    fails({"csg", "union", path("s.vdb"), path("junk.vdb"), "-o", out}, 1, "junk.vdb");
+    fails({"frobnicate"}, 2, "frobnicate");
+    fails({}, 2, "subcommand");
+
+    // A grid of the wrong type for the command.
+    auto ints = Int32Grid::create(0);
+    ints->setName("labels");
+    ints->tree().setValueOn(Coord(1, 2, 3), 7);
+    io::File(path("ints.vdb")).write(GridPtrVec{ints});
+    fails({"floodfill", path("ints.vdb"), "-o", out, "--grid", "labels"}, 2, "labels");
+    fails({"csg", "union", path("s.vdb"), path("ints.vdb"), "-o", out}, 2, "level set");
+
+    // Grids in different index spaces.
+    auto moved = tools::createLevelSetSphere<FloatGrid>(1.0f, Vec3f(0.0f), 0.05f, 3.0f);
+    io::File(path("fine.vdb")).write(GridPtrVec{moved});
+    fails({"csg", "union", path("s.vdb"), path("fine.vdb"), "-o", out}, 2, "transforms");
+}
+
+TEST_F(Cli, FailureKeepsTheFileThatWasThere) {
+    writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    const auto before = test::fileBytes(path("s.vdb"));
+    const Result r = run({"convert", path("missing.vdb"), "-o", path("s.vdb")});
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(test::fileBytes(path("s.vdb")), before);
+}
+
+TEST_F(Cli, CtrlCLeavesNoOutputBehind) {
+    // A sphere big enough to take seconds; interrupted while it is built or written.
+    const pid_t pid = spawn({"sphere", "-o", path("big.vdb"), "--enright", "2048", "--quiet"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ASSERT_EQ(::kill(pid, SIGINT), 0);
+    const Result r = wait(pid);
+    EXPECT_EQ(r.status, 128 + SIGINT) << "the command ended before it was interrupted";
+    EXPECT_NE(r.err.find("cancelled"), std::string::npos) << r.err;
+    for (const auto& e : fs::directory_iterator(mDir))
+        ADD_FAILURE() << "left behind: " << e.path().filename();
+}
+
+}  // namespace
+}  // namespace vdb
