@@ -12,6 +12,7 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/math/Vec3.h>
 #include <vdb/tools/LevelSetSphere.h>
 #include <vdb/util/Parallel.h>
 
@@ -146,6 +147,42 @@ void buildLeavesByBlock(TreeT& tree, size_t blockCount, const OpT& op, bool thre
             linkLeaf(tree, std::move(leaf));
     }
 }
+
+/// The leaves of one block: their local indices (x-major), origins and centres.
+template <typename LeafT, Index BlockLog2>
+struct BlockLeaves {
+    static constexpr Index PER_AXIS = Index(1) << (BlockLog2 - LeafT::LOG2DIM);
+    static constexpr Int32 DIM = Int32(LeafT::DIM);
+
+    /// Calls `op(index, center)` for every leaf of the block at `origin` that `box` (clipped
+    /// to the block) touches; `center` is the middle of the leaf's voxel centres.
+    template <typename OpT>
+    static void forEachTouched(const Coord& origin, CoordBBox box, const OpT& op) {
+        const CoordBBox block = CoordBBox::createCube(origin, Int32(1) << BlockLog2);
+        box.min() = Coord::maxComponent(box.min(), block.min());
+        box.max() = Coord::minComponent(box.max(), block.max());
+        if (box.empty())
+            return;
+        const Coord lo = (box.min() - origin) >> LeafT::LOG2DIM;
+        const Coord hi = (box.max() - origin) >> LeafT::LOG2DIM;
+        for (Int32 x = lo[0]; x <= hi[0]; ++x) {
+            for (Int32 y = lo[1]; y <= hi[1]; ++y) {
+                for (Int32 z = lo[2]; z <= hi[2]; ++z) {
+                    const Vec3d center =
+                        Vec3d(origin.offsetBy(x * DIM, y * DIM, z * DIM)) + 0.5 * double(DIM - 1);
+                    op((uint32_t(x) * PER_AXIS + uint32_t(y)) * PER_AXIS + uint32_t(z), center);
+                }
+            }
+        }
+    }
+
+    /// The origin of the leaf with local `index` in the block at `origin`.
+    static Coord leafOrigin(const Coord& origin, uint32_t index) {
+        return origin.offsetBy(Int32(index / (PER_AXIS * PER_AXIS)) * DIM,
+                               Int32((index / PER_AXIS) % PER_AXIS) * DIM,
+                               Int32(index % PER_AXIS) * DIM);
+    }
+};
 
 /// The block edge (log2, in voxels) the tools use: 64 voxels, or one leaf if leaves are larger.
 template <typename TreeT>

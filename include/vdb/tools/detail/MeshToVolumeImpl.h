@@ -288,11 +288,10 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                                        const MeshToVolumeOptions& options) {
     using LeafT = typename TreeT::LeafNodeType;
     using ValueT = typename TreeT::ValueType;
-    constexpr Index LEAF_LOG2 = LeafT::LOG2DIM;
     constexpr Int32 LEAF_DIM = Int32(LeafT::DIM);
     constexpr Index BLOCK_LOG2 = blockLog2<TreeT>();
     constexpr Int32 BLOCK_DIM = Int32(1) << BLOCK_LOG2;
-    constexpr Index LEAVES_PER_AXIS = Index(1) << (BLOCK_LOG2 - LEAF_LOG2);
+    using Leaves = BlockLeaves<LeafT, BLOCK_LOG2>;
     constexpr Index COLUMNS = Index(1) << (2 * BLOCK_LOG2);
 
     const bool threaded = options.threaded;
@@ -407,30 +406,11 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
             // The triangles each leaf of the block must consider, as (leaf, triangle) pairs
             // sorted by leaf.
             std::vector<std::pair<uint32_t, uint32_t>> pairs;
-            const CoordBBox blockBox = buckets.blockBox(b);
             for (uint32_t t = 0; t < tris.size(); ++t) {
-                CoordBBox box = reach[t];
-                box.min() = Coord::maxComponent(box.min(), blockBox.min());
-                box.max() = Coord::minComponent(box.max(), blockBox.max());
-                if (box.empty())
-                    continue;
-                const Coord lo = (box.min() - origin) >> LEAF_LOG2;
-                const Coord hi = (box.max() - origin) >> LEAF_LOG2;
-                for (Int32 x = lo[0]; x <= hi[0]; ++x) {
-                    for (Int32 y = lo[1]; y <= hi[1]; ++y) {
-                        for (Int32 z = lo[2]; z <= hi[2]; ++z) {
-                            const Vec3d center =
-                                Vec3d(origin.offsetBy(x * LEAF_DIM, y * LEAF_DIM, z * LEAF_DIM)) +
-                                0.5 * double(LEAF_DIM - 1);
-                            if (tris[t].sqrDistance(center - tris[t].a) > leafReach2)
-                                continue;
-                            const uint32_t leaf =
-                                (uint32_t(x) * LEAVES_PER_AXIS + uint32_t(y)) * LEAVES_PER_AXIS +
-                                uint32_t(z);
-                            pairs.emplace_back(leaf, t);
-                        }
-                    }
-                }
+                Leaves::forEachTouched(origin, reach[t], [&](uint32_t leaf, const Vec3d& c) {
+                    if (tris[t].sqrDistance(c - tris[t].a) <= leafReach2)
+                        pairs.emplace_back(leaf, t);
+                });
             }
             std::sort(pairs.begin(), pairs.end());
 
@@ -440,10 +420,7 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                 size_t q = p;
                 while (q < pairs.size() && pairs[q].first == leafIndex)
                     ++q;
-                const Coord leafOrigin = origin.offsetBy(
-                    Int32(leafIndex / (LEAVES_PER_AXIS * LEAVES_PER_AXIS)) * LEAF_DIM,
-                    Int32((leafIndex / LEAVES_PER_AXIS) % LEAVES_PER_AXIS) * LEAF_DIM,
-                    Int32(leafIndex % LEAVES_PER_AXIS) * LEAF_DIM);
+                const Coord leafOrigin = Leaves::leafOrigin(origin, leafIndex);
                 const CoordBBox leafBox = CoordBBox::createCube(leafOrigin, LEAF_DIM);
 
                 // Minimum squared distance over the leaf's triangles, voxel by voxel, visiting
