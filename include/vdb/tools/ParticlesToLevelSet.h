@@ -198,6 +198,9 @@ void ParticlesToLevelSet<GridT>::rasterizeSpheres(const std::vector<Vec3s>& posi
     using TreeT = typename GridT::TreeType;
     using LeafT = typename TreeT::LeafNodeType;
     using ValueT = ValueType;
+    // Distances are computed in the grid's precision: float for float grids (errors of a few
+    // 1e-6 voxels for radii of tens of voxels), double otherwise.
+    using DistT = std::conditional_t<(sizeof(ValueT) > sizeof(float)), double, float>;
     constexpr Int32 LEAF_DIM = Int32(LeafT::DIM);
     constexpr Index BLOCK_LOG2 = detail::blockLog2<TreeT>();
     using Leaves = detail::BlockLeaves<LeafT, BLOCK_LOG2>;
@@ -258,7 +261,7 @@ void ParticlesToLevelSet<GridT>::rasterizeSpheres(const std::vector<Vec3s>& posi
             }
             std::sort(pairs.begin(), pairs.end());
 
-            std::array<double, LeafT::NUM_VALUES> dist;
+            std::array<DistT, LeafT::NUM_VALUES> dist;
             for (size_t p = 0; p < pairs.size();) {
                 const uint32_t leafIndex = pairs[p].first;
                 const Coord leafOrigin = Leaves::leafOrigin(origin, leafIndex);
@@ -269,11 +272,13 @@ void ParticlesToLevelSet<GridT>::rasterizeSpheres(const std::vector<Vec3s>& posi
                     p = q;
                     continue;
                 }
-                dist.fill(std::numeric_limits<double>::infinity());
+                dist.fill(std::numeric_limits<DistT>::infinity());
                 for (; p < q; ++p) {
                     const Vec3d& c = centers[pairs[p].second];
                     const double r = rad[pairs[p].second];
                     const double outer = r + w;
+                    // Offsets from the centre in double, the distances along a row in DistT.
+                    const DistT rr = DistT(r), ez0 = DistT(double(leafOrigin[2]) - c[2]);
                     for (Int32 i = 0; i < LEAF_DIM; ++i) {
                         const double ex = double(leafOrigin[0] + i) - c[0];
                         for (Int32 j = 0; j < LEAF_DIM; ++j) {
@@ -286,12 +291,11 @@ void ParticlesToLevelSet<GridT>::rasterizeSpheres(const std::vector<Vec3s>& posi
                                 std::max(Int32(0), Int32(std::ceil(c[2] - reach)) - leafOrigin[2]);
                             const Int32 k1 = std::min(
                                 LEAF_DIM - 1, Int32(std::floor(c[2] + reach)) - leafOrigin[2]);
-                            const Index row = LeafT::coordToOffset(Coord(i, j, 0));
+                            const DistT exy = DistT(ex * ex + ey * ey);
+                            DistT* row = dist.data() + LeafT::coordToOffset(Coord(i, j, 0));
                             for (Int32 k = k0; k <= k1; ++k) {
-                                const double ez = double(leafOrigin[2] + k) - c[2];
-                                const double d = std::sqrt(ex * ex + ey * ey + ez * ez) - r;
-                                double& slot = dist[row + Index(k)];
-                                slot = std::min(slot, d);
+                                const DistT ez = ez0 + DistT(k);
+                                row[k] = std::min(row[k], std::sqrt(exy + ez * ez) - rr);
                             }
                         }
                     }
@@ -299,10 +303,10 @@ void ParticlesToLevelSet<GridT>::rasterizeSpheres(const std::vector<Vec3s>& posi
                 auto leaf = std::make_unique<LeafT>(leafOrigin, background, false);
                 bool active = false;
                 for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
-                    if (std::abs(dist[n]) < w) {
-                        leaf->setValueOn(n, ValueT(dist[n] * dx));
+                    if (std::abs(double(dist[n])) < w) {
+                        leaf->setValueOn(n, ValueT(double(dist[n]) * dx));
                         active = true;
-                    } else if (dist[n] < 0.0) {
+                    } else if (dist[n] < DistT(0)) {
                         leaf->setValueOff(n, ValueT(-background));
                     }
                 }
