@@ -279,9 +279,19 @@ void ParticlesToLevelSet<GridT>::rasterizeSpheres(const std::vector<Vec3s>& posi
                     const double outer = r + w;
                     // Offsets from the centre in double, the distances along a row in DistT.
                     const DistT rr = DistT(r), ez0 = DistT(double(leafOrigin[2]) - c[2]);
-                    for (Int32 i = 0; i < LEAF_DIM; ++i) {
+                    // The rows of the leaf within the sphere's bounding box.
+                    const auto range = [&](int axis) {
+                        return std::pair<Int32, Int32>(
+                            std::max(Int32(0),
+                                     Int32(std::ceil(c[axis] - outer)) - leafOrigin[axis]),
+                            std::min(LEAF_DIM - 1,
+                                     Int32(std::floor(c[axis] + outer)) - leafOrigin[axis]));
+                    };
+                    const auto [i0, i1] = range(0);
+                    const auto [j0, j1] = range(1);
+                    for (Int32 i = i0; i <= i1; ++i) {
                         const double ex = double(leafOrigin[0] + i) - c[0];
-                        for (Int32 j = 0; j < LEAF_DIM; ++j) {
+                        for (Int32 j = j0; j <= j1; ++j) {
                             const double ey = double(leafOrigin[1] + j) - c[1];
                             const double rest = outer * outer - ex * ex - ey * ey;
                             if (rest <= 0.0)
