@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
 /// Library-neutral inputs for the benchmarks: the Enright sphere narrow band of the paper's
-/// section 5, a portable seeded shuffle, and the process memory readings of Table II.
+/// section 5, a portable seeded shuffle, the process memory readings of Table II, and command
+/// line lists.
 ///
 /// Nothing here includes either tree library, so every benchmark feeds this library and
 /// OpenVDB the same coordinates and values in the same order.
@@ -15,6 +16,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -124,6 +127,17 @@ std::vector<T> sample(const std::vector<T>& items, size_t count, uint64_t seed) 
     std::vector<T> out(count);
     for (T& item : out)
         item = items[rng.below(items.size())];
+    return out;
+}
+
+/// The non-empty items of a `sep`-separated list, as the benchmarks' command lines take them.
+inline std::vector<std::string> splitList(const std::string& s, char sep = ',') {
+    std::vector<std::string> out;
+    std::stringstream in(s);
+    std::string item;
+    while (std::getline(in, item, sep))
+        if (!item.empty())
+            out.push_back(item);
     return out;
 }
 

@@ -54,6 +54,7 @@
 namespace {
 
 using vdb::bench::BandVoxel;
+using vdb::bench::splitList;
 
 constexpr double kHalfWidth = 5.0;                // narrow band half width in voxels
 constexpr float kBackground = float(kHalfWidth);  // values are in voxel units
@@ -242,16 +243,6 @@ Timing run(const std::string& op, const Inputs<Lib>& in, int reps) {
 }
 
 // ---- Command line ----
-
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ','))
-        if (!item.empty())
-            out.push_back(item);
-    return out;
-}
 
 [[noreturn]] void usage(const char* message) {
     std::fprintf(stderr,

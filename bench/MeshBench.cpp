@@ -1,0 +1,270 @@
+// SPDX-License-Identifier: Apache-2.0
+// Geometry to level set benchmarks (Museth 2013, section 4.5, appendix B, Fig. 8): this
+// library against OpenVDB 10 on the same inputs, in one process.
+//
+//   mesh        meshToLevelSet, half width 3, of a closed mesh at a bounding resolution: the
+//               voxel size is the longest edge of the mesh's bounding box over `res`. Meshes:
+//               a generated latitude-longitude sphere or torus with about the given number of
+//               triangles (shape:res:triangles), or Wuson.ply of the Debian package
+//               assimp-testmodels (wuson:res), read with vdb::meshio
+//   particles   the torus-knot-helix of Fig. 8: N spheres along the curve
+//               (tools::torusKnotHelixSpheres, radii 0.00375-0.005 in the unit box) rasterized
+//               as the union of their distance fields (ParticlesToLevelSet), half width 3, at
+//               voxel size 1/res (res:count)
+//
+// Each case runs both libraries `reps` times; the median is reported with the ratio ours /
+// OpenVDB, and the active voxel counts of both results. "1 thread" runs under
+// tbb::global_control with one thread for both libraries; "all" uses every core.
+//
+// Usage: vdb_bench_mesh [--cases sphere:256:10000,wuson:512,...]
+//                       [--particles 1024:100000,...] [--reps 3] [--threads 1,all]
+
+#include <vdb/meshio/MeshReader.h>
+#include <vdb/tools/MeshToVolume.h>
+#include <vdb/tools/ParticlesToLevelSet.h>
+#include <vdb/vdb.h>
+
+#include "../tests/mesh/TestMeshes.h"
+#include "BenchCommon.h"
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/ParticlesToLevelSet.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Runs `op` `reps` times and returns the median in milliseconds; `op` returns the active
+/// voxel count of what it built (reported, and kept out of the optimiser's reach).
+double timeMs(int reps, const std::function<uint64_t()>& op, uint64_t& active) {
+    std::vector<double> ms;
+    for (int r = 0; r < reps; ++r) {
+        const auto start = Clock::now();
+        active = op();
+        ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+    }
+    return median(ms);
+}
+
+// ---- Inputs ----
+
+constexpr const char* kWuson = "/usr/share/assimp/models/PLY/Wuson.ply";
+
+/// A closed mesh: `shape` with about `triangles` triangles in the unit box, or Wuson.ply.
+vdb::test::TestMesh makeMesh(const std::string& shape, int triangles) {
+    if (shape == "sphere") {
+        // 2 * segments * (rings - 1) triangles with segments = 2 * rings.
+        const int rings = std::max(3, int(std::lround(std::sqrt(triangles / 4.0))));
+        return vdb::test::makeSphereMesh(vdb::Vec3d(0.5), 0.4, rings, 2 * rings);
+    }
+    if (shape == "torus") {
+        // 2 * around * tube triangles with around = 3 * tube.
+        const int tube = std::max(3, int(std::lround(std::sqrt(triangles / 6.0))));
+        return vdb::test::makeTorusMesh(vdb::Vec3d(0.5), 0.3, 0.1, 3 * tube, tube);
+    }
+    if (shape == "wuson") {
+        const vdb::meshio::Mesh read = vdb::meshio::readMesh(kWuson);
+        return {read.points, read.triangles, read.quads};
+    }
+    std::fprintf(stderr, "unknown mesh shape '%s' (sphere, torus or wuson)\n", shape.c_str());
+    std::exit(2);
+}
+
+/// The voxel size that gives `mesh` a bounding resolution of `res` voxels.
+double voxelSizeFor(const vdb::test::TestMesh& mesh, int res) {
+    vdb::Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const auto& p : mesh.points) {
+        lo = vdb::Vec3d::minComponent(lo, vdb::Vec3d(p));
+        hi = vdb::Vec3d::maxComponent(hi, vdb::Vec3d(p));
+    }
+    const vdb::Vec3d extent = hi - lo;
+    return std::max({extent[0], extent[1], extent[2]}) / res;
+}
+
+uint64_t vdbMesh(const vdb::test::TestMesh& mesh, double voxelSize) {
+    const auto xform = vdb::math::Transform::createLinearTransform(voxelSize);
+    return vdb::tools::meshToLevelSet<vdb::FloatGrid>(*xform, mesh.points, mesh.triangles,
+                                                      mesh.quads, 3.0f)
+        ->activeVoxelCount();
+}
+
+struct OpenVdbMesh {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    explicit OpenVdbMesh(const vdb::test::TestMesh& mesh) {
+        for (const auto& p : mesh.points)
+            points.emplace_back(p[0], p[1], p[2]);
+        for (const auto& t : mesh.triangles)
+            triangles.emplace_back(t[0], t[1], t[2]);
+        for (const auto& q : mesh.quads)
+            quads.emplace_back(q[0], q[1], q[2], q[3]);
+    }
+};
+
+uint64_t openvdbMesh(const OpenVdbMesh& mesh, double voxelSize) {
+    const auto xform = openvdb::math::Transform::createLinearTransform(voxelSize);
+    return openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, mesh.points, mesh.triangles,
+                                                              mesh.quads, 3.0f)
+        ->activeVoxelCount();
+}
+
+/// The particle list interface OpenVDB's ParticlesToLevelSet reads.
+struct OpenVdbParticles {
+    using PosType = openvdb::Vec3R;
+    std::vector<openvdb::Vec3R> positions;
+    std::vector<double> radii;
+    size_t size() const { return positions.size(); }
+    void getPos(size_t n, openvdb::Vec3R& xyz) const { xyz = positions[n]; }
+    void getPosRad(size_t n, openvdb::Vec3R& xyz, openvdb::Real& rad) const {
+        xyz = positions[n];
+        rad = radii[n];
+    }
+};
+
+uint64_t vdbParticles(const vdb::tools::SphereList& spheres, int res) {
+    auto grid = vdb::FloatGrid::create(float(3.0 / res));
+    grid->setTransform(vdb::math::Transform::createLinearTransform(1.0 / res));
+    grid->setGridClass(vdb::GRID_LEVEL_SET);
+    vdb::tools::ParticlesToLevelSet<vdb::FloatGrid> raster(*grid);
+    raster.rasterizeSpheres(spheres.positions, spheres.radii);
+    raster.finalize();
+    return grid->activeVoxelCount();
+}
+
+uint64_t openvdbParticles(const OpenVdbParticles& spheres, int res) {
+    auto grid = openvdb::createLevelSet<openvdb::FloatGrid>(1.0 / res, 3.0);
+    openvdb::tools::ParticlesToLevelSet<openvdb::FloatGrid> raster(*grid);
+    raster.rasterizeSpheres(spheres);
+    raster.finalize(true);
+    return grid->activeVoxelCount();
+}
+
+// ---- Command line ----
+
+using vdb::bench::splitList;
+
+[[noreturn]] void usage(const char* message) {
+    std::fprintf(stderr,
+                 "%s\nusage: vdb_bench_mesh [--cases shape:res:triangles,wuson:res,...] "
+                 "[--particles res:count,...] [--reps 3] [--threads 1,all]\n",
+                 message);
+    std::exit(2);
+}
+
+long parsePositive(const std::string& s, const char* what) {
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (s.empty() || *end != '\0' || v < 1)
+        usage((std::string("bad ") + what + " '" + s + "'").c_str());
+    return v;
+}
+
+void printRow(const char* what, const std::string& input, int res, int threads, double ours,
+              double theirs, uint64_t activeOurs, uint64_t activeTheirs) {
+    std::printf("%-9s %-16s %5d %7d %10.1f %10.1f %6.2f  %llu / %llu active\n", what, input.c_str(),
+                res, threads, ours, theirs, ours / theirs, (unsigned long long)activeOurs,
+                (unsigned long long)activeTheirs);
+    std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::vector<std::string> cases{"sphere:256:10000",    "torus:256:100000",  "wuson:256",
+                                   "sphere:512:100000",   "torus:512:1000000", "wuson:512",
+                                   "sphere:1024:1000000", "wuson:1024"};
+    std::vector<std::string> particles{"1024:100000", "1024:1000000"};
+    int reps = 3;
+    std::vector<std::string> threads{"1", "all"};
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (i + 1 >= argc)
+            usage(("missing value after " + arg).c_str());
+        const std::string value = argv[++i];
+        if (arg == "--cases") {
+            cases = value == "none" ? std::vector<std::string>{} : splitList(value);
+        } else if (arg == "--particles") {
+            particles = value == "none" ? std::vector<std::string>{} : splitList(value);
+        } else if (arg == "--reps") {
+            reps = int(parsePositive(value, "repetition count"));
+        } else if (arg == "--threads") {
+            threads = splitList(value);
+        } else {
+            usage(("unknown argument " + arg).c_str());
+        }
+    }
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    openvdb::initialize();
+    std::printf("# vdb_bench_mesh: medians of %d runs, milliseconds; ratio = vdb / openvdb\n",
+                reps);
+    std::printf("%-9s %-16s %5s %7s %10s %10s %6s  %s\n", "tool", "input", "res", "threads", "vdb",
+                "openvdb", "ratio", "active voxels vdb / openvdb");
+    for (const std::string& c : cases) {
+        const auto parts = splitList(c, ':');
+        if (parts.size() != (parts.empty() || parts[0] != "wuson" ? 3u : 2u))
+            usage(("bad case " + c).c_str());
+        const int res = int(parsePositive(parts[1], "resolution"));
+        const auto mesh =
+            makeMesh(parts[0], parts.size() > 2 ? int(parsePositive(parts[2], "triangles")) : 0);
+        const double voxelSize = voxelSizeFor(mesh, res);
+        const OpenVdbMesh theirMesh(mesh);
+        const std::string input =
+            parts[0] + " " + std::to_string(mesh.triangles.size() + 2 * mesh.quads.size());
+        for (const std::string& t : threads) {
+            const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
+            uint64_t a = 0, b = 0;
+            const double ours = timeMs(
+                reps, [&] { return vdbMesh(mesh, voxelSize); }, a);
+            const double theirs = timeMs(
+                reps, [&] { return openvdbMesh(theirMesh, voxelSize); }, b);
+            printRow("mesh", input, res, n, ours, theirs, a, b);
+        }
+    }
+    for (const std::string& c : particles) {
+        const auto parts = splitList(c, ':');
+        if (parts.size() != 2)
+            usage(("bad particle case " + c).c_str());
+        const int res = int(parsePositive(parts[0], "resolution"));
+        const size_t count = size_t(parsePositive(parts[1], "particle count"));
+        const auto spheres = vdb::tools::torusKnotHelixSpheres(count);
+        OpenVdbParticles theirs;
+        for (size_t n = 0; n < count; ++n) {
+            const auto& p = spheres.positions[n];
+            theirs.positions.emplace_back(p[0], p[1], p[2]);
+            theirs.radii.push_back(spheres.radii[n]);
+        }
+        for (const std::string& t : threads) {
+            const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
+            uint64_t a = 0, b = 0;
+            const double ours = timeMs(
+                reps, [&] { return vdbParticles(spheres, res); }, a);
+            const double other = timeMs(
+                reps, [&] { return openvdbParticles(theirs, res); }, b);
+            printRow("particles", "tkh " + std::to_string(count), res, n, ours, other, a, b);
+        }
+    }
+    std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
+    return 0;
+}

@@ -1,0 +1,285 @@
+// SPDX-License-Identifier: Apache-2.0
+// Mesh import through assimp (library target vdb::meshio).
+
+#include <vdb/Exceptions.h>
+#include <vdb/meshio/MeshReader.h>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace vdb::meshio {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+    throw IoError("readMesh: " + path + ": " + what);
+}
+
+// ---- Structure checks for the text formats that assimp reads leniently ----
+//
+// assimp's ASCII PLY and OFF readers accept files whose counts do not match their data, that
+// stop early, or whose faces name vertices that do not exist (reading defaults or dropping the
+// faces). These checks walk such files once, by their own counts, before assimp parses them.
+
+/// The numbers of one line, or false when a token is not a number.
+bool parseNumbers(const std::string& line, std::vector<double>& out) {
+    out.clear();
+    std::istringstream in(line);
+    std::string token;
+    while (in >> token) {
+        char* end = nullptr;
+        const double v = std::strtod(token.c_str(), &end);
+        if (end == token.c_str() || *end != '\0')
+            return false;
+        out.push_back(v);
+    }
+    return true;
+}
+
+/// Reads the next line that is neither empty nor a comment (`comment` starts it).
+bool nextDataLine(std::istream& in, std::string& line, const char* comment) {
+    while (std::getline(in, line)) {
+        const size_t first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line.compare(first, std::strlen(comment), comment) == 0)
+            continue;
+        return true;
+    }
+    return false;
+}
+
+/// Checks the vertex coordinates and face indices of one face record: `n` then n indices.
+void checkFace(const std::string& path, const std::vector<double>& v, size_t at,
+               uint64_t vertexCount, uint64_t face) {
+    if (v.size() <= at || v[at] < 0 || v[at] != std::floor(v[at]) ||
+        v.size() < at + 1 + size_t(v[at]))
+        fail(path, "face " + std::to_string(face) + " is malformed");
+    for (size_t k = 0; k < size_t(v[at]); ++k) {
+        const double index = v[at + 1 + k];
+        if (!(index >= 0 && index < double(vertexCount)) || index != std::floor(index)) {
+            fail(path, "face " + std::to_string(face) + " uses vertex " + std::to_string(index) +
+                           " of " + std::to_string(vertexCount));
+        }
+    }
+}
+
+void checkVertex(const std::string& path, const std::vector<double>& v, size_t count,
+                 uint64_t vertex) {
+    if (v.size() < count)
+        fail(path, "vertex " + std::to_string(vertex) + " has too few values");
+    for (size_t k = 0; k < 3 && k < v.size(); ++k) {
+        if (!std::isfinite(v[k]))
+            fail(path, "vertex " + std::to_string(vertex) + " has a coordinate that is not finite");
+    }
+}
+
+/// OFF: "OFF", then vertex, face and edge counts, the vertices, the faces.
+void checkOff(const std::string& path, std::istream& in) {
+    std::string line;
+    std::vector<double> v;
+    nextDataLine(in, line, "#");  // the OFF keyword, possibly followed by the counts
+    const size_t key = line.find("OFF");
+    std::string rest = key == std::string::npos ? line : line.substr(key + 3);
+    if (!parseNumbers(rest, v) || v.empty()) {
+        if (!nextDataLine(in, line, "#") || !parseNumbers(line, v))
+            fail(path, "the OFF header has no counts");
+    }
+    if (v.size() < 2 || v[0] < 0 || v[1] < 0)
+        fail(path, "the OFF header has no valid vertex and face counts");
+    const uint64_t vertices = uint64_t(v[0]), faces = uint64_t(v[1]);
+    for (uint64_t n = 0; n < vertices; ++n) {
+        if (!nextDataLine(in, line, "#") || !parseNumbers(line, v))
+            fail(path, "the file ends after " + std::to_string(n) + " of " +
+                           std::to_string(vertices) + " vertices");
+        checkVertex(path, v, 3, n);
+    }
+    for (uint64_t n = 0; n < faces; ++n) {
+        if (!nextDataLine(in, line, "#") || !parseNumbers(line, v))
+            fail(path, "the file ends after " + std::to_string(n) + " of " + std::to_string(faces) +
+                           " faces");
+        checkFace(path, v, 0, vertices, n);
+    }
+}
+
+/// ASCII PLY: the header's elements, each a line per record with its properties in order.
+void checkAsciiPly(const std::string& path, std::istream& in) {
+    struct Element {
+        std::string name;
+        uint64_t count = 0;
+        std::vector<bool> isList;  // per property
+        int indexList = -1;        // the vertex_indices / vertex_index list of faces
+    };
+    std::vector<Element> elements;
+    std::string line;
+    uint64_t vertexCount = 0;
+    for (;;) {
+        if (!std::getline(in, line))
+            fail(path, "the PLY header has no end_header");
+        std::istringstream words(line);
+        std::string word;
+        words >> word;
+        if (word == "end_header")
+            break;
+        if (word == "element") {
+            Element e;
+            double count = -1;
+            words >> e.name >> count;
+            if (!(count >= 0))
+                fail(path, "element " + e.name + " has no valid count");
+            e.count = uint64_t(count);
+            if (e.name == "vertex")
+                vertexCount = e.count;
+            elements.push_back(e);
+        } else if (word == "property") {
+            if (elements.empty())
+                fail(path, "a property comes before any element");
+            std::string type, name;
+            words >> type;
+            const bool list = type == "list";
+            if (list) {
+                std::string countType, itemType;
+                words >> countType >> itemType;
+            }
+            words >> name;
+            auto& e = elements.back();
+            if (list && (name == "vertex_indices" || name == "vertex_index"))
+                e.indexList = int(e.isList.size());
+            e.isList.push_back(list);
+        }
+    }
+    std::vector<double> v;
+    for (const Element& e : elements) {
+        for (uint64_t n = 0; n < e.count; ++n) {
+            if (!nextDataLine(in, line, "comment") || !parseNumbers(line, v)) {
+                fail(path, "the file ends after " + std::to_string(n) + " of " +
+                               std::to_string(e.count) + " " + e.name + " records");
+            }
+            // Walk the properties: a scalar takes one value, a list its count and items.
+            size_t at = 0;
+            for (size_t p = 0; p < e.isList.size(); ++p) {
+                if (at >= v.size())
+                    fail(path, e.name + " " + std::to_string(n) + " has too few values");
+                if (int(p) == e.indexList && e.name == "face")
+                    checkFace(path, v, at, vertexCount, n);
+                at += e.isList[p] ? 1 + size_t(std::max(0.0, v[at])) : 1;
+            }
+            if (at != v.size()) {
+                fail(path, e.name + " " + std::to_string(n) + " has " + std::to_string(v.size()) +
+                               " values where the header gives " + std::to_string(at));
+            }
+            if (e.name == "vertex")
+                checkVertex(path, v, 3, n);
+        }
+    }
+}
+
+/// Appends the faces of `mesh`, its vertices moved by `xform`, to `out`.
+void appendMesh(const std::string& path, const aiMesh& mesh, const aiMatrix4x4& xform, Mesh& out) {
+    const size_t base = out.points.size();
+    if (base + mesh.mNumVertices >= size_t(0xFFFFFFFFu))
+        fail(path, "too many vertices");
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+        const aiVector3D p = xform * mesh.mVertices[v];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            fail(path, "vertex " + std::to_string(v) + " has a coordinate that is not finite");
+        out.points.emplace_back(p.x, p.y, p.z);
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+        const aiFace& face = mesh.mFaces[f];
+        for (unsigned k = 0; k < face.mNumIndices; ++k) {
+            if (face.mIndices[k] >= mesh.mNumVertices) {
+                fail(path, "face " + std::to_string(f) + " uses vertex " +
+                               std::to_string(face.mIndices[k]) + " of " +
+                               std::to_string(mesh.mNumVertices));
+            }
+        }
+        const auto at = [&](unsigned k) { return Index32(base + face.mIndices[k]); };
+        if (face.mNumIndices == 3) {
+            out.triangles.emplace_back(at(0), at(1), at(2));
+        } else if (face.mNumIndices == 4) {
+            out.quads.emplace_back(at(0), at(1), at(2), at(3));
+        } else {
+            for (unsigned k = 2; k < face.mNumIndices; ++k)
+                out.triangles.emplace_back(at(0), at(k - 1), at(k));
+        }
+    }
+}
+
+void appendNode(const std::string& path, const aiScene& scene, const aiNode& node,
+                const aiMatrix4x4& parent, Mesh& out, unsigned depth) {
+    if (depth > 1024)
+        fail(path, "the scene graph is too deep");
+    const aiMatrix4x4 xform = parent * node.mTransformation;
+    for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+        if (node.mMeshes[m] >= scene.mNumMeshes)
+            fail(path, "a node names a mesh that does not exist");
+        appendMesh(path, *scene.mMeshes[node.mMeshes[m]], xform, out);
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c)
+        appendNode(path, scene, *node.mChildren[c], xform, out, depth + 1);
+}
+
+}  // namespace
+
+Mesh readMesh(const std::string& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::is_regular_file(status))
+        fail(path, "no such file");
+    if (std::filesystem::file_size(path, ec) == 0 || ec)
+        fail(path, "the file is empty");
+
+    {
+        std::ifstream in(path, std::ios::binary);
+        std::string head(16, '\0');
+        in.read(head.data(), std::streamsize(head.size()));
+        head.resize(size_t(in.gcount()));
+        in.clear();
+        in.seekg(0);
+        if (head.rfind("ply", 0) == 0 && head.find("ascii") != std::string::npos) {
+            checkAsciiPly(path, in);
+        } else if (head.find("OFF") != std::string::npos && head.find("OFF") < 4) {
+            checkOff(path, in);
+        }
+    }
+
+    Assimp::Importer importer;
+    // Points and lines are dropped; polygons keep their vertex counts (no triangulation).
+    // Only positions matter: without normals, colours and texture coordinates, the corners
+    // STL stores per triangle merge into shared vertices.
+    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                                aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                    aiComponent_COLORS | aiComponent_TEXCOORDS);
+    const aiScene* scene =
+        importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
+                                    aiProcess_ValidateDataStructure | aiProcess_SortByPType);
+    if (!scene) {
+        const std::string why = importer.GetErrorString();
+        fail(path, why.empty() ? "not a mesh file assimp can read" : why);
+    }
+    if (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)
+        fail(path, "the file is incomplete");
+
+    Mesh out;
+    if (scene->mRootNode)
+        appendNode(path, *scene, *scene->mRootNode, aiMatrix4x4(), out, 0);
+    if (out.triangles.empty() && out.quads.empty())
+        fail(path, "the file holds no faces");
+    return out;
+}
+
+}  // namespace vdb::meshio
