@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
 /// Library-neutral inputs for the benchmarks: the Enright sphere narrow band of the paper's
-/// section 5, a portable seeded shuffle, the process memory readings of Table II, and command
-/// line lists.
+/// section 5, a portable seeded shuffle, the process memory readings of Table II, and the
+/// command-line helpers the benchmark programs share.
 ///
 /// Nothing here includes either tree library, so every benchmark feeds this library and
 /// OpenVDB the same coordinates and values in the same order.
@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -157,6 +158,16 @@ inline uint64_t residentBytes() {
 /// allocations.
 inline void releaseFreeMemory() {
     malloc_trim(0);
+}
+
+/// Parses `s` as a whole number in [1, 65536] into `value`; false when it is not one.
+inline bool parsePositive(const std::string& s, int& value) {
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (s.empty() || *end != '\0' || v < 1 || v > 1 << 16)
+        return false;
+    value = int(v);
+    return true;
 }
 
 }  // namespace vdb::bench

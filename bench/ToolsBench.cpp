@@ -254,11 +254,10 @@ Timing run(const std::string& op, const Inputs<Lib>& in, int reps) {
 }
 
 int parsePositive(const std::string& s, const char* what) {
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v < 1 || v > 1 << 16)
+    int v = 0;
+    if (!vdb::bench::parsePositive(s, v))
         usage((std::string("bad ") + what + " '" + s + "'").c_str());
-    return int(v);
+    return v;
 }
 
 }  // namespace
@@ -276,14 +275,14 @@ int main(int argc, char** argv) {
         const std::string value = argv[++i];
         if (arg == "--res") {
             resolutions.clear();
-            for (const std::string& r : splitList(value))
+            for (const std::string& r : vdb::bench::splitList(value))
                 resolutions.push_back(parsePositive(r, "resolution"));
         } else if (arg == "--reps") {
             reps = parsePositive(value, "repetition count");
         } else if (arg == "--ops") {
-            ops = splitList(value);
+            ops = vdb::bench::splitList(value);
         } else if (arg == "--threads") {
-            threads = splitList(value);
+            threads = vdb::bench::splitList(value);
         } else {
             usage(("unknown argument " + arg).c_str());
         }

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
     addCsgCommand(app, ctx);
     addAdvectCommands(app, ctx);
     addConvertCommand(app, ctx);
+    addRenderCommand(app, ctx);
 
     std::string names;
     bool known = false;

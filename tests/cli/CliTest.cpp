@@ -15,6 +15,7 @@
 #include "GridContents.h"
 #include "ToolRunner.h"
 #include <gtest/gtest.h>
+#include <png.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -23,8 +24,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
@@ -110,6 +114,47 @@ protected:
 
     fs::path mDir;
 };
+
+/// A PNG file decoded with libpng into 8-bit RGBA.
+struct Picture {
+    size_t width = 0, height = 0;
+    std::vector<uint8_t> rgba;
+    bool lit(size_t x, size_t y) const {
+        const uint8_t* p = &rgba[4 * (y * width + x)];
+        return p[0] || p[1] || p[2];
+    }
+    /// Pixels whose colour is not black (the background).
+    size_t litCount() const {
+        size_t n = 0;
+        for (size_t y = 0; y < height; ++y)
+            for (size_t x = 0; x < width; ++x)
+                n += lit(x, y);
+        return n;
+    }
+};
+
+/// Decodes `file`; fails the test (and returns an empty picture) when libpng cannot.
+Picture readPng(const std::string& file) {
+    png_image png;
+    std::memset(&png, 0, sizeof(png));
+    png.version = PNG_IMAGE_VERSION;
+    Picture pic;
+    if (!png_image_begin_read_from_file(&png, file.c_str())) {
+        ADD_FAILURE() << file << ": " << png.message;
+        return pic;
+    }
+    png.format = PNG_FORMAT_RGBA;
+    std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(png));
+    if (!png_image_finish_read(&png, nullptr, pixels.data(), 0, nullptr)) {
+        ADD_FAILURE() << file << ": " << png.message;
+        png_image_free(&png);
+        return pic;
+    }
+    pic.width = png.width;
+    pic.height = png.height;
+    pic.rgba = std::move(pixels);
+    return pic;
+}
 
 TEST_F(Cli, SphereWritesTheLevelSetTheLibraryBuilds) {
     const Result r = ok({"sphere", "-o", path("s.vdb"), "--radius", "1.5", "--center", "0.5,0,-1",
@@ -261,20 +306,6 @@ double cubeDistance(const Vec3d& p) {
     return outside.length() + std::min(std::max({q[0], q[1], q[2]}), 0.0);
 }
 
-/// Width and height from a PNG file's IHDR chunk; {0, 0} when it is not a PNG.
-std::pair<uint32_t, uint32_t> pngSize(const std::string& file) {
-    const auto bytes = test::fileBytes(file);
-    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    if (bytes.size() < 24 || !std::equal(signature, signature + 8, bytes.begin()) ||
-        std::string(bytes.begin() + 12, bytes.begin() + 16) != "IHDR")
-        return {0, 0};
-    const auto be32 = [&](size_t at) {
-        return uint32_t(uint8_t(bytes[at])) << 24 | uint32_t(uint8_t(bytes[at + 1])) << 16 |
-               uint32_t(uint8_t(bytes[at + 2])) << 8 | uint32_t(uint8_t(bytes[at + 3]));
-    };
-    return {be32(16), be32(20)};
-}
-
 /// The number after "key": in a JSON document (NaN when absent).
 double jsonNumber(const std::string& json, const std::string& key) {
     const size_t at = json.find("\"" + key + "\":");
@@ -362,7 +393,14 @@ TEST_F(Cli, DemoWritesTheUnionOfItsLevelSetsAndAPicture) {
     ASSERT_GT(mesh->activeVoxelCount(), 1000u);
     tools::csgUnion(*helix, *mesh);
     expectSameVoxels(both->tree(), helix->tree());
-    EXPECT_EQ(pngSize(path("demo.png")), std::make_pair(160u, 120u));
+    const Picture picture = readPng(path("demo.png"));
+    ASSERT_EQ(picture.width, 160u);
+    ASSERT_EQ(picture.height, 120u);
+    // The shapes cover a good part of the frame: pixels unlike the corner (the background).
+    size_t shape = 0;
+    for (size_t n = 0; n < picture.width * picture.height; ++n)
+        shape += !std::equal(&picture.rgba[4 * n], &picture.rgba[4 * n + 3], &picture.rgba[0]);
+    EXPECT_GT(shape, picture.width * picture.height / 10);
 }
 
 TEST_F(Cli, AdvectMovesASphereByTheConstantVelocity) {
@@ -474,6 +512,96 @@ TEST_F(Cli, BadInputsGiveOneErrorLineAndNoOutput) {
     auto moved = tools::createLevelSetSphere<FloatGrid>(1.0f, Vec3f(0.0f), 0.05f, 3.0f);
     io::File(path("fine.vdb")).write(GridPtrVec{moved});
     fails({"csg", "union", path("s.vdb"), path("fine.vdb"), "-o", out}, 2, "transforms");
+}
+
+TEST_F(Cli, RenderDrawsALevelSetSphereWithItsProjectedDisc) {
+    // A sphere of radius 1 seen from 4 units away through a 30 degree field of view: its
+    // silhouette is a disc of angular radius asin(1/4) about the image centre.
+    ok({"sphere", "-o", path("s.vdb"), "--radius", "1", "--voxel-size", "0.02"});
+    const size_t w = 96, h = 72;
+    const Result r = ok({"render", path("s.vdb"), "-o", path("s.png"), "--width", std::to_string(w),
+                         "--height", std::to_string(h), "--position", "0,0,4", "--look-at", "0,0,0",
+                         "--fov", "30", "--quiet"});
+    EXPECT_TRUE(r.out.empty()) << r.out;
+    const Picture pic = readPng(path("s.png"));
+    ASSERT_EQ(pic.width, w);
+    ASSERT_EQ(pic.height, h);
+    const double tanHalfFov = std::tan(15.0 * std::numbers::pi / 180.0);
+    const double radius = std::tan(std::asin(0.25)) / tanHalfFov * 0.5 * double(h);  // pixels
+    const double disc = std::numbers::pi * radius * radius;
+    EXPECT_NEAR(double(pic.litCount()), disc, 0.04 * disc);
+    EXPECT_TRUE(pic.lit(w / 2, h / 2));
+    EXPECT_FALSE(pic.lit(0, 0));
+    EXPECT_FALSE(pic.lit(w - 1, h - 1));
+    // The sphere is shaded: the light (0.5, 0.8, 0.6) makes the upper half brighter.
+    const auto luma = [&](size_t x, size_t y) {
+        const uint8_t* p = &pic.rgba[4 * (y * w + x)];
+        return int(p[0]) + int(p[1]) + int(p[2]);
+    };
+    EXPECT_GT(luma(w / 2, h / 2 - size_t(0.6 * radius)), luma(w / 2, h / 2 + size_t(0.6 * radius)));
+
+    // The normals picture: same size, lit where the sphere is.
+    ok({"render", path("s.vdb"), "-o", path("t.png"), "--width", "40", "--height", "30",
+        "--normals", path("n.png"), "--quiet"});
+    const Picture normals = readPng(path("n.png"));
+    EXPECT_EQ(normals.width, 40u);
+    EXPECT_EQ(normals.height, 30u);
+    EXPECT_EQ(normals.litCount(), readPng(path("t.png")).litCount());
+}
+
+TEST_F(Cli, RenderDrawsAFogVolumeBoxAsASquare) {
+    // A cube of 32^3 voxels of density 1, seen face on by an orthographic camera whose window
+    // is the cube's bounding box diagonal high: a lit square, black around it.
+    const int n = 32;
+    const double voxel = 0.05;
+    auto fog = FloatGrid::create(0.0f);
+    fog->setTransform(math::Transform::createLinearTransform(voxel));
+    fog->setGridClass(GRID_FOG_VOLUME);
+    fog->setName("density");
+    fog->tree().fill(CoordBBox(Coord(0), Coord(n - 1)), 1.0f, true);
+    io::File(path("fog.vdb")).write(GridPtrVec{fog});
+    const double c = 0.5 * (n - 1) * voxel;
+    const std::string centre = std::to_string(c) + "," + std::to_string(c) + ",";
+    const size_t w = 80, h = 60;
+    const Result r = ok({"render", path("fog.vdb"), "-o", path("fog.png"), "--camera", "ortho",
+                         "--width", std::to_string(w), "--height", std::to_string(h), "--position",
+                         centre + "10", "--look-at", centre + std::to_string(c), "--json"});
+    EXPECT_NE(r.out.find("\"mode\": \"fog\""), std::string::npos) << r.out;
+    const Picture pic = readPng(path("fog.png"));
+    ASSERT_EQ(pic.width, w);
+    ASSERT_EQ(pic.height, h);
+    const double pixel = std::sqrt(3.0) * (n - 1) * voxel / double(h);  // world units
+    // The trilinear density fades to zero within a voxel of the faces.
+    const double lo = (n - 2) * voxel / pixel, hi = (n + 1) * voxel / pixel;
+    EXPECT_GT(double(pic.litCount()), lo * lo);
+    EXPECT_LT(double(pic.litCount()), hi * hi);
+    EXPECT_TRUE(pic.lit(w / 2, h / 2));
+    EXPECT_FALSE(pic.lit(w / 2 - size_t(0.6 * hi), h / 2));
+    EXPECT_FALSE(pic.lit(0, 0));
+}
+
+TEST_F(Cli, RenderRejectsBadInputsWithoutWritingAPicture) {
+    writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    auto ints = Int32Grid::create(0);
+    ints->setName("labels");
+    ints->tree().setValueOn(Coord(1, 2, 3), 7);
+    io::File(path("ints.vdb")).write(GridPtrVec{ints});
+    auto empty = FloatGrid::create(0.0f);
+    empty->setName("nothing");
+    io::File(path("empty.vdb")).write(GridPtrVec{empty});
+    const std::string out = path("out.png");
+    fails({"render", path("missing.vdb"), "-o", out}, 1, "missing.vdb");
+    fails({"render", path("ints.vdb"), "-o", out}, 2, "float or double");
+    fails({"render", path("ints.vdb"), "-o", out, "--grid", "labels"}, 2, "float or double");
+    fails({"render", path("empty.vdb"), "-o", out}, 2, "empty");
+    fails({"render", path("s.vdb"), "-o", out, "--width", "0"}, 2, "--width");
+    fails({"render", path("s.vdb"), "-o", out, "--mode", "smoke"}, 2, "smoke");
+    fails({"render", path("s.vdb"), "-o", out, "--view", "1,2"}, 2, "--view");
+    fails({"render", path("s.vdb"), "-o", out, "--position", "0,0,5"}, 2, "--look-at");
+    fails({"render", path("s.vdb"), "-o", out, "--position", "0,0,0", "--look-at", "0,0,0"}, 1,
+          "look-at");
+    fails({"render", path("s.vdb"), "-o", path("no/such/dir/out.png")}, 2, "does not exist");
+    fails({"render", path("s.vdb")}, 2, "--output");
 }
 
 TEST_F(Cli, FailureKeepsTheFileThatWasThere) {

@@ -109,6 +109,22 @@ private:
 
 namespace detail {
 
+/// floor(x) for x already limited to the Int32 range, without a call into libm (the x86-64
+/// baseline has no rounding instruction): truncate, then step down for negative fractions.
+inline Int64 floorInRange(double x) {
+    const Int64 i = Int64(x);
+    return i - Int64(double(i) > x);
+}
+
+/// floor(x) limited to [lo, hi]; NaN gives lo.
+inline Int32 floorClamped(double x, Int32 lo, Int32 hi) {
+    if (!(x >= double(lo)))
+        return lo;
+    if (x >= double(hi))
+        return hi;
+    return Int32(floorInRange(x));
+}
+
 /// The node type at `Level` below (or at) `NodeT`; level 0 is the leaf.
 template <typename NodeT, Index Level>
 struct DDANodeAt {
@@ -179,6 +195,14 @@ public:
     /// the walk is over.
     bool next(Span& span);
 
+    /// Continues the current walk from time `t` in voxel `ijk` (where the ray is at time t),
+    /// for callers that walked ahead on their own, voxel by voxel; the end time is kept.
+    void restart(double t, const Coord& ijk) {
+        mTime = t;
+        mIjk = ijk;
+        mDone = !(t <= mEnd) || !mBounds.isInside(ijk);
+    }
+
     /// The end of the clipped time range of the current walk.
     double endTime() const { return mEnd; }
 
@@ -211,7 +235,10 @@ private:
     std::array<Coord, TOP> mKeys;
     Nodes mNodes{};
     // The current walk: the ray, the voxel where the next span starts, its time, the end.
-    Vec3d mEye, mDir, mInvDir;
+    Vec3d mEye, mDir;
+    // Per axis: 1 when the ray moves up (it leaves a cube through its upper face), else 0; the
+    // reciprocal direction, 0 where the ray does not move; +infinity there, else 0.
+    Vec3d mFar, mInvDirFinite, mBias;
     Coord mIjk;
     double mTime = 0, mEnd = 0;
     bool mDone = true;
@@ -224,7 +251,11 @@ void DDA<RealT, Log2Dim>::init(const Ray<RealT>& ray, RealT startTime, RealT max
     mTime = startTime;
     mMaxTime = maxTime;
     const Vec3<RealT> pos = ray(startTime);
-    mVoxel = floorToCoord(pos).alignedDown(Log2Dim);
+    constexpr Int32 lo = std::numeric_limits<Int32>::min(), hi = std::numeric_limits<Int32>::max();
+    mVoxel = Coord(detail::floorClamped(double(pos[0]), lo, hi),
+                   detail::floorClamped(double(pos[1]), lo, hi),
+                   detail::floorClamped(double(pos[2]), lo, hi))
+                 .alignedDown(Log2Dim);
     for (int i = 0; i < 3; ++i) {
         const RealT d = ray.dir()[i], inv = ray.invDir()[i];
         if (d > RealT(0)) {
@@ -261,20 +292,26 @@ bool HierarchicalDDA<TreeT>::init(const Ray<double>& ray, double t0, double t1) 
     mDone = true;
     if (mBounds.empty())
         return false;
-    // Clip to the closed box [min, max + 1] of the bounds' voxels.
+    // Clip [t0, t1] to the closed box [min, max + 1] of the bounds' voxels.
+    Ray<double> clipped(ray);
+    clipped.setTimes(t0, t1);
     const BBoxd box(Vec3d(mBounds.min()), Vec3d(mBounds.max()) + 1.0);
-    Ray<double> clipped(ray.eye(), ray.dir(), t0, t1);
-    if (!clipped.clip(box) || !(clipped.t0() <= clipped.t1()))
+    if (!clipped.intersects(box, t0, t1) || !(t0 <= t1))
         return false;
     mEye = ray.eye();
     mDir = ray.dir();
-    mInvDir = ray.invDir();
-    mTime = clipped.t0();
-    mEnd = clipped.t1();
+    for (int i = 0; i < 3; ++i) {
+        const bool moving = mDir[i] != 0.0;
+        mFar[i] = mDir[i] > 0.0 ? 1.0 : 0.0;
+        mInvDirFinite[i] = moving ? ray.invDir()[i] : 0.0;
+        mBias[i] = moving ? 0.0 : std::numeric_limits<double>::infinity();
+    }
+    mTime = t0;
+    mEnd = t1;
     const Vec3d p = ray(mTime);
     for (int i = 0; i < 3; ++i) {
         // Rounding may put the entry point just outside the box.
-        mIjk[i] = clamp(floorToInt32(p[i]), mBounds.min()[i], mBounds.max()[i]);
+        mIjk[i] = detail::floorClamped(p[i], mBounds.min()[i], mBounds.max()[i]);
     }
     mDone = false;
     return true;
@@ -288,21 +325,18 @@ bool HierarchicalDDA<TreeT>::next(Span& span) {
     const Int64 dim = Int64(1) << span.log2Dim;
     span.origin = mIjk.alignedDown(span.log2Dim);
 
-    // Exit time of the region's cube: the earliest of the three far faces.
-    double exitTime = std::numeric_limits<double>::max();
-    int axis = -1;
+    // Exit time of the region's cube: the earliest of the three far faces (axes the ray does
+    // not move along give +infinity through mBias), chosen without branches.
+    double t[3];
     for (int i = 0; i < 3; ++i) {
-        if (mDir[i] == 0.0)
-            continue;
-        const double face = double(span.origin[i]) + (mDir[i] > 0.0 ? double(dim) : 0.0);
-        const double t = (face - mEye[i]) * mInvDir[i];
-        if (t < exitTime) {
-            exitTime = t;
-            axis = i;
-        }
+        const double face = double(span.origin[i]) + mFar[i] * double(dim);
+        t[i] = (face - mEye[i]) * mInvDirFinite[i] + mBias[i];
     }
+    int axis = t[1] < t[0] ? 1 : 0;
+    axis = t[2] < t[axis] ? 2 : axis;
+    const double exitTime = t[axis];
     span.t0 = mTime;
-    if (axis < 0 || exitTime >= mEnd) {
+    if (!(exitTime < mEnd)) {
         span.t1 = mEnd;
         mDone = true;
         return true;
@@ -311,23 +345,18 @@ bool HierarchicalDDA<TreeT>::next(Span& span) {
 
     // Step across the exit face; the other two components come from the exit point, kept
     // inside the region's cube so that rounding cannot move them backwards.
-    const Vec3d p = Vec3d(mEye) + mDir * span.t1;
-    Coord ijk;
+    const Vec3d p = mEye + mDir * span.t1;
+    Int64 c[3];
     for (int i = 0; i < 3; ++i) {
-        const Int64 lo = span.origin[i], hi = lo + dim - 1;
-        Int64 c;
-        if (i == axis) {
-            c = mDir[i] > 0.0 ? hi + 1 : lo - 1;
-        } else {
-            c = clamp(Int64(floorToInt32(p[i])), lo, hi);
-        }
-        if (c < mBounds.min()[i] || c > mBounds.max()[i]) {
-            mDone = true;  // the walk leaves the tree's extent
-            return true;
-        }
-        ijk[i] = Int32(c);
+        const Int64 lo = span.origin[i];
+        c[i] = detail::floorClamped(p[i], Int32(lo), Int32(lo + dim - 1));
     }
-    mIjk = ijk;
+    c[axis] = mDir[axis] > 0.0 ? Int64(span.origin[axis]) + dim : Int64(span.origin[axis]) - 1;
+    if ((c[axis] < mBounds.min()[axis]) | (c[axis] > mBounds.max()[axis])) {
+        mDone = true;  // the walk leaves the tree's extent
+        return true;
+    }
+    mIjk = Coord(Int32(c[0]), Int32(c[1]), Int32(c[2]));
     mTime = span.t1;
     return true;
 }

@@ -11,6 +11,9 @@
 /// centres, so that each piece lies in one trilinear cell, and the trilinear interpolant
 /// (tools/BoxSampler) is evaluated at the cuts. The first piece whose ends differ in sign
 /// holds the crossing; regula falsi (Illinois) on the interpolant refines it to 1e-6 voxels.
+/// A cell whose lower corner holds a value at least two voxel sizes from the iso-value is
+/// passed with one read: a level set changes by at most about a voxel size per voxel, so such
+/// a cell has no crossing and the corner's sign (the assumption OpenVDB's linear search makes).
 /// Tiles are constant, so a sign change between a tile and its neighbour is caught at their
 /// common boundary. The normal is the normalized gradient of the trilinear interpolant.
 /// Crossings that enter and leave one trilinear cell (grazing rays) are not reported.
@@ -135,14 +138,38 @@ private:
     bool march(const RayType& iRay, double& iTime) const;
     // The trilinear interpolant minus the iso-value at index point p.
     double field(const Vec3d& p) const;
-    // Refines a crossing bracketed by (ta, fa) and (tb, fb), fa and fb of opposite signs.
-    double refine(const RayType& ray, double ta, double fa, double tb, double fb) const;
+    // The last sample of a march: its time, its value relative to the iso-value, and whether
+    // that is the interpolant's value (else only its sign is known to be the interpolant's).
+    struct Sample {
+        double t = 0.0, f = 0.0;
+        bool exact = false, valid = false;
+    };
+    // Reads the corners of the trilinear cell with lower corner c, from `leaf` directly when
+    // they all lie in it (leaf may be null).
+    void getCorners(const LeafT* leaf, const Coord& c, ValueType (&v)[2][2][2]) const;
+    // The interpolant minus the iso-value at p, inside the trilinear cell with lower corner c.
+    double cellField(const LeafT& leaf, const Coord& c, const Vec3d& p) const;
+    // Handles a sample whose sign differs from `prev`'s: true (and the crossing time in iTime)
+    // when the interpolant really changes sign between them, else records the sample.
+    bool resolve(const RayType& ray, Sample& prev, double t, double f, bool exact,
+                 const LeafT* leaf, double& iTime) const;
+    // Refines a crossing bracketed by (ta, fa) and (tb, fb), fa and fb of opposite signs. When
+    // the bracket lies in one trilinear cell, its corners are read once and kept for the normal.
+    double refine(const RayType& ray, double ta, double fa, double tb, double fb,
+                  const LeafT* leaf) const;
+    // The index-space gradient at the crossing point `ijk` of the last hit.
+    Vec3d hitGradient(const Vec3d& ijk) const;
 
     const GridT* mGrid;
     ValueType mIsoValue;
+    double mFar;  // two voxel sizes: values this far from the iso-value are far from the surface
     BBoxd mBBox;
     mutable Accessor mAcc;
     mutable HDDA mHdda;
+    // The trilinear cell of the last refined crossing and its corner values.
+    mutable Coord mHitCell;
+    mutable ValueType mHitCorners[2][2][2];
+    mutable bool mHitCellValid = false;
 };
 
 /// Cuts rays into the spans that cross active values of a volume (a fog volume, a density
@@ -238,6 +265,7 @@ template <typename GridT>
 LevelSetRayIntersector<GridT>::LevelSetRayIntersector(const GridT& grid, ValueType isoValue)
     : mGrid(&grid),
       mIsoValue(isoValue),
+      mFar(2.0 * grid.voxelSize()[0]),
       mBBox(detail::paddedActiveBBox(grid.tree(), 1.0)),
       mAcc(grid.tree()),
       mHdda(grid.tree()) {
@@ -253,24 +281,44 @@ double LevelSetRayIntersector<GridT>::field(const Vec3d& p) const {
 
 template <typename GridT>
 double LevelSetRayIntersector<GridT>::refine(const RayType& ray, double ta, double fa, double tb,
-                                             double fb) const {
+                                             double fb, const LeafT* leaf) const {
+    // When both ends lie in one trilinear cell (the usual case: consecutive samples bound a
+    // cell), read its corners once and evaluate the interpolant directly.
+    const Vec3d pa = ray(ta), pb = ray(tb), mid = (pa + pb) * 0.5;
+    const Coord c(Int32(math::detail::floorInRange(mid[0])),
+                  Int32(math::detail::floorInRange(mid[1])),
+                  Int32(math::detail::floorInRange(mid[2])));
+    const Vec3d lo = Vec3d(c) - 1e-6, hi = Vec3d(c) + (1.0 + 1e-6);
+    mHitCellValid = BBoxd(lo, hi).isInside(pa) && BBoxd(lo, hi).isInside(pb);
+    if (mHitCellValid) {
+        mHitCell = c;
+        getCorners(leaf, c, mHitCorners);
+    }
+    auto f = [&](double t) {
+        if (!mHitCellValid)
+            return field(ray(t));
+        Vec3d uvw = ray(t) - Vec3d(c);
+        for (int i = 0; i < 3; ++i)
+            uvw[i] = math::clamp01(uvw[i]);
+        return double(BoxSampler::trilinear(mHitCorners, uvw)) - double(mIsoValue);
+    };
     // Illinois regula falsi: the secant, with the retained end's value halved whenever the
     // same end is kept twice, so that convergence stays superlinear.
     int side = 0;
     for (int iter = 0; iter < 40 && tb - ta > 1e-6; ++iter) {
         const double t = (ta * fb - tb * fa) / (fb - fa);
-        const double f = field(ray(t));
-        if (f == 0.0)
+        const double ft = f(t);
+        if (ft == 0.0)
             return t;
-        if ((f < 0.0) == (fa < 0.0)) {
+        if ((ft < 0.0) == (fa < 0.0)) {
             ta = t;
-            fa = f;
+            fa = ft;
             if (side == -1)
                 fb *= 0.5;
             side = -1;
         } else {
             tb = t;
-            fb = f;
+            fb = ft;
             if (side == 1)
                 fa *= 0.5;
             side = 1;
@@ -280,54 +328,155 @@ double LevelSetRayIntersector<GridT>::refine(const RayType& ray, double ta, doub
 }
 
 template <typename GridT>
+void LevelSetRayIntersector<GridT>::getCorners(const LeafT* leaf, const Coord& c,
+                                               ValueType (&v)[2][2][2]) const {
+    constexpr uint32_t LAST = LeafT::DIM - 1;
+    if (leaf) {
+        const Coord local = c - leaf->origin();
+        if (uint32_t(local[0]) < LAST && uint32_t(local[1]) < LAST && uint32_t(local[2]) < LAST) {
+            // All eight corners lie in this leaf: read its buffer directly.
+            constexpr Index X = Index(1) << (2 * LeafT::LOG2DIM), Y = Index(1) << LeafT::LOG2DIM;
+            const Index n = LeafT::coordToOffset(c);
+            for (Index a = 0; a < 2; ++a)
+                for (Index b = 0; b < 2; ++b) {
+                    const Index m = n + a * X + b * Y;
+                    v[a][b][0] = leaf->getValue(m);
+                    v[a][b][1] = leaf->getValue(m + 1);
+                }
+            return;
+        }
+    }
+    // The cell straddles leaves: along each axis where it sticks out of the leaf of c, the
+    // upper corners lie in the next leaf. Find each of the (up to 8) leaves once, then read
+    // every corner from its leaf, or through the accessor where there is no leaf.
+    const Coord base = c.alignedDown(LeafT::LOG2DIM);
+    const Coord local = c - base;
+    const int out =
+        (local[0] == Int32(LAST)) | (local[1] == Int32(LAST)) << 1 | (local[2] == Int32(LAST)) << 2;
+    const LeafT* leaves[8] = {};
+    for (int m = 0; m < 8; ++m) {
+        if ((m & ~out) != 0)
+            continue;
+        const Coord origin =
+            base.offsetBy(m & 1 ? Int32(LeafT::DIM) : 0, m & 2 ? Int32(LeafT::DIM) : 0,
+                          m & 4 ? Int32(LeafT::DIM) : 0);
+        leaves[m] = leaf && leaf->origin() == origin ? leaf : mAcc.probeConstLeaf(origin);
+    }
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+            for (int k = 0; k < 2; ++k) {
+                const Coord ijk = c.offsetBy(a, b, k);
+                const LeafT* l = leaves[(a & out) | ((b << 1) & out) | ((k << 2) & out)];
+                v[a][b][k] = l ? l->getValue(LeafT::coordToOffset(ijk)) : mAcc.getValue(ijk);
+            }
+}
+
+template <typename GridT>
+double LevelSetRayIntersector<GridT>::cellField(const LeafT& leaf, const Coord& c,
+                                                const Vec3d& p) const {
+    Vec3d uvw = p - Vec3d(c);
+    for (int i = 0; i < 3; ++i)
+        uvw[i] = math::clamp01(uvw[i]);
+    ValueType v[2][2][2];
+    getCorners(&leaf, c, v);
+    return double(BoxSampler::trilinear(v, uvw)) - double(mIsoValue);
+}
+
+template <typename GridT>
+bool LevelSetRayIntersector<GridT>::resolve(const RayType& ray, Sample& prev, double t, double f,
+                                            bool exact, const LeafT* leaf, double& iTime) const {
+    const double fa = prev.exact ? prev.f : field(ray(prev.t));
+    const double fb = exact ? f : field(ray(t));
+    if ((fb < 0.0) != (fa < 0.0)) {
+        iTime = fb == 0.0 ? t : refine(ray, prev.t, fa, t, fb, leaf);
+        return true;
+    }
+    prev = Sample{t, fb, true, true};
+    return false;
+}
+
+template <typename GridT>
 bool LevelSetRayIntersector<GridT>::march(const RayType& iRay, double& iTime) const {
+    mHitCellValid = false;
     RayType ray(iRay);
     if (!ray.clip(mBBox))
         return false;
-    // The walk is node-centred: voxel v owns [v, v + 1); the trilinear cell with lower corner v
-    // is that same cube, so the planes the voxel DDA crosses are the cell boundaries.
+    // The walk is node-centred: voxel v owns [v, v + 1), which is also the trilinear cell with
+    // lower corner v, so the voxel DDA inside a leaf visits the ray's trilinear cells in order.
     if (!mHdda.init(ray, ray.t0(), ray.t1()))
         return false;
-    bool havePrev = false;
-    double prevT = 0.0, prevF = 0.0;
-    // Records the sample (t, f); returns true when it closes a sign change.
-    auto sample = [&](double t, double f) {
-        if (havePrev && ((f < 0.0) != (prevF < 0.0))) {
-            iTime = f == 0.0 ? t : refine(ray, prevT, prevF, t, f);
-            return true;
-        }
-        havePrev = true;
-        prevT = t;
-        prevF = f;
+
+    Sample prev;
+    // Records a sample; true when it closes a sign change of the interpolant.
+    auto sample = [&](double t, double f, bool exact, const LeafT* leaf) {
+        if (prev.valid && ((f < 0.0) != (prev.f < 0.0))) [[unlikely]]
+            return resolve(ray, prev, t, f, exact, leaf, iTime);
+        prev = Sample{t, f, exact, true};
         return false;
     };
+
     typename HDDA::Span span;
-    bool lastWasLeaf = false;
+    const LeafT* lastLeaf = nullptr;
+    const double end = mHdda.endTime();
     while (mHdda.next(span)) {
-        lastWasLeaf = span.leaf != nullptr;
+        lastLeaf = span.leaf;
         if (!span.leaf) {
             // A tile or the background: one value over the whole region.
-            if (sample(span.t0, double(span.value) - double(mIsoValue)))
+            if (sample(span.t0, double(span.value) - double(mIsoValue), false, nullptr))
                 return true;
-            prevT = span.t1;
+            prev.t = span.t1;
             continue;
         }
-        // Sample at the span's start and at every cell boundary inside it.
-        if (sample(span.t0, field(ray(span.t0))))
-            return true;
-        math::DDA<double, 0> dda(ray, span.t0, span.t1);
-        while (dda.step()) {
+        // Walk the trilinear cells from here, through this leaf and any leaves that follow
+        // it, until the ray enters a region without a leaf; the hierarchical walk resumes
+        // there. A cell whose lower corner is at least mFar from the iso-value cannot hold a
+        // crossing (a level set changes by at most one voxel size per voxel, and the cell's
+        // diagonal is sqrt(3) voxels): its sign is the corner's.
+        const LeafT* leaf = span.leaf;
+        Coord origin = span.origin;
+        math::DDA<double, 0> dda(ray, span.t0, end);
+        // Rounding may put the entry point just behind the leaf's face: step into the leaf
+        // (handing such a voxel back to the hierarchical walk would bring the ray here again).
+        for (int k = 0; k < 3 && dda.voxel().alignedDown(LeafT::LOG2DIM) != origin; ++k)
+            if (!dda.step())
+                break;
+        for (;;) {
+            const Coord& c = dda.voxel();
             const double t = dda.time();
-            if (sample(t, field(ray(t))))
+            if (c.alignedDown(LeafT::LOG2DIM) != origin) {
+                const LeafT* next = mAcc.probeConstLeaf(c);
+                if (!next) {
+                    mHdda.restart(t, c);
+                    break;
+                }
+                leaf = lastLeaf = next;
+                origin = next->origin();
+            }
+            const double v = double(leaf->getValue(LeafT::coordToOffset(c))) - double(mIsoValue);
+            const bool far = std::abs(v) >= mFar;
+            if (sample(t, far ? v : cellField(*leaf, c, ray(t)), !far, leaf))
                 return true;
+            if (!dda.step()) {
+                mHdda.restart(end + 1.0, c);  // the ray's end: the walk is over
+                break;
+            }
         }
     }
-    if (lastWasLeaf) {
-        const double t = mHdda.endTime();
-        if (sample(t, field(ray(t))))
+    if (lastLeaf) {
+        if (sample(end, field(ray(end)), true, lastLeaf))
             return true;
     }
     return false;
+}
+
+template <typename GridT>
+Vec3d LevelSetRayIntersector<GridT>::hitGradient(const Vec3d& ijk) const {
+    if (!mHitCellValid)
+        return BoxSampler::gradient(mAcc, ijk);
+    Vec3d uvw = ijk - Vec3d(mHitCell);
+    for (int i = 0; i < 3; ++i)
+        uvw[i] = math::clamp01(uvw[i]);
+    return BoxSampler::trilinearGradient(mHitCorners, uvw);
 }
 
 template <typename GridT>
@@ -361,7 +510,7 @@ bool LevelSetRayIntersector<GridT>::intersectsWS(const RayType& wRay, Vec3d& xyz
     xyz = xform.indexToWorld(ijk);
     wTime = (xyz - wRay.eye()).dot(wRay.dir()) / wRay.dir().lengthSqr();
     // With cubic voxels the inverse transpose of the linear part is a multiple of it.
-    normal = xform.indexToWorldDirection(BoxSampler::gradient(mAcc, ijk)).unitSafe();
+    normal = xform.indexToWorldDirection(hitGradient(ijk)).unitSafe();
     return true;
 }
 
