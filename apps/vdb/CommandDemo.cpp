@@ -83,16 +83,18 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             const float halfWidth = 3.0f;
             Report report(ctx);
 
-            // 1. The torus-knot-helix (paper Fig. 8): spheres of radius 0.005 in the unit box.
+            // 1. The torus-knot-helix (paper Fig. 8) in the unit box: spheres of radius 0.005,
+            //    or two voxels where voxels are coarser, so that every sphere is resolved.
+            const float radius = float(std::max(0.005, 2.0 * voxelSize));
             const tools::SphereList spheres =
                 report.step("place " + withCommas(a.spheres) + " spheres along a torus-knot-helix",
-                            [&] { return tools::torusKnotHelixSpheres(a.spheres, 0.005f); });
+                            [&] { return tools::torusKnotHelixSpheres(a.spheres, radius); });
             FloatGrid::Ptr helix = spheresToGrid(report, spheres, voxelSize, halfWidth);
             helix->setName("helix");
             report.note("  helix: " + withCommas(helix->activeVoxelCount()) + " active voxels, " +
                         bytesText(helix->memUsage()));
 
-            // 2. A polygon mesh, scaled to pass through the knot's hole.
+            // 2. A polygon mesh, scaled to stand in the knot's hole.
             std::string meshName = a.mesh;
             if (meshName.empty() && fs::exists(kShippedMesh))
                 meshName = kShippedMesh;
@@ -101,7 +103,10 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
                     ? report.step("make a torus mesh",
                                   [] { return torusMesh(1.0f, 0.35f, 512, 128); })
                     : report.step("read " + meshName, [&] { return meshio::readMesh(meshName); });
-            fitMesh(mesh, 0.42, Vec3d(0.5, 0.5, 0.5));
+            if (!meshName.empty())  // files are y-up by convention; the scene is z-up
+                for (Vec3s& p : mesh.points)
+                    p = Vec3s(p[0], -p[2], p[1]);
+            fitMesh(mesh, 0.5, Vec3d(0.5, 0.5, 0.5));
             FloatGrid::Ptr surface = meshToGrid(
                 report, mesh, voxelSize, halfWidth,
                 meshName.empty() ? tools::MeshSign::FloodFill : tools::MeshSign::WindingNumber);
@@ -128,7 +133,7 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             const CoordBBox bbox = both->evalActiveVoxelBoundingBox();
             const BBoxd worldBox = both->transform().indexToWorld(bbox);
             const auto camera = render::PerspectiveCamera::frame(
-                worldBox, a.width, a.height, Vec3d(-0.45, -1.0, -0.75), 35.0, Vec3d(0, 0, 1));
+                worldBox, a.width, a.height, Vec3d(-0.45, -1.0, -0.75), 24.0, Vec3d(0, 0, 1));
             render::LevelSetRenderSettings settings;
             settings.lightDirection = Vec3d(0.3, 0.9, 0.7);
             settings.background = render::Rgba{0.06f, 0.07f, 0.09f, 1.0f};

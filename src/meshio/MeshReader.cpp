@@ -9,6 +9,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -110,6 +111,23 @@ void checkOff(const std::string& path, std::istream& in) {
             fail(path, "the file ends after " + std::to_string(n) + " of " + std::to_string(faces) +
                            " faces");
         checkFace(path, v, 0, vertices, n);
+    }
+}
+
+/// OBJ: every vertex record "v x y z [w]" has numeric, finite coordinates (assimp's OBJ reader
+/// turns a token that is not a number, "nan" included, into 0).
+void checkObj(const std::string& path, std::istream& in) {
+    std::string line;
+    std::vector<double> v;
+    uint64_t vertex = 0;
+    while (std::getline(in, line)) {
+        const size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos || line.compare(first, 2, "v ") != 0)
+            continue;
+        if (!parseNumbers(line.substr(first + 2), v) || v.size() < 3)
+            fail(path, "vertex " + std::to_string(vertex) + " is malformed");
+        checkVertex(path, v, 3, vertex);
+        ++vertex;
     }
 }
 
@@ -252,6 +270,12 @@ Mesh readMesh(const std::string& path) {
             checkAsciiPly(path, in);
         } else if (head.find("OFF") != std::string::npos && head.find("OFF") < 4) {
             checkOff(path, in);
+        } else {
+            std::string ext = std::filesystem::path(path).extension().string();
+            std::transform(ext.begin(), ext.end(), ext.begin(),
+                           [](unsigned char c) { return char(std::tolower(c)); });
+            if (ext == ".obj")
+                checkObj(path, in);
         }
     }
 

@@ -266,6 +266,8 @@ TEST(MeshReader, OutOfRangeIndicesThrow) {
 
 TEST(MeshReader, NonFiniteCoordinatesThrow) {
     EXPECT_TRUE(rejects("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"));
+    EXPECT_TRUE(rejects("nan-z.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n"));
+    EXPECT_TRUE(rejects("word.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n"));
     std::string ply = tetPlyAscii();
     ply.replace(ply.find("end_header\n0 0 0") + 11, 5, "0 inf 0");
     EXPECT_TRUE(rejects("inf.ply", ply));
