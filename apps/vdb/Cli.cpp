@@ -212,6 +212,11 @@ void removeTemporaries(const std::string& path) {
 
 }  // namespace
 
+void writeWatched(const std::string& path, const std::function<void()>& write) {
+    WatchedOutput watch(path);
+    write();
+}
+
 void writeGrids(const std::string& path, const GridPtrVec& grids, uint32_t compression) {
     WatchedOutput watch(path);
     io::File file(path);

@@ -137,6 +137,11 @@ uint32_t parseCompression(const std::string& name);
 /// temporary file if the user presses Ctrl-C meanwhile.
 void writeGrids(const std::string& path, const GridPtrVec& grids, uint32_t compression);
 
+/// Runs `write()`, which writes `path` through a temporary file "<path>.tmp-*" renamed into
+/// place (as io::File and writePng do), removing that temporary file if the user presses
+/// Ctrl-C meanwhile.
+void writeWatched(const std::string& path, const std::function<void()>& write);
+
 /// The output options of commands that write a `.vdb` file.
 struct OutputArgs {
     std::string path;

@@ -82,7 +82,7 @@ void advectFrames(Report& report, const typename GridT::Ptr& gridPtr, const Fiel
                 while (std::abs(to - t) > 1e-12 * std::max(1.0, std::abs(to))) {
                     const double dt = advection.step(t, to - t);
                     if (dt == 0)
-                        break;  // the field vanishes on the band
+                        break;  // only when no time is left to advance
                     t += dt;
                     ++steps;
                     progress.set(static_cast<uint64_t>(kTicks * (t - from) / (to - from)));

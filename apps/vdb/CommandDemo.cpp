@@ -140,7 +140,8 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             const render::Image image =
                 report.step("ray-trace " + std::to_string(a.width) + "x" + std::to_string(a.height),
                             [&] { return render::renderLevelSet(*both, camera, settings); });
-            report.step("write " + pngPath, [&] { writePng(pngPath, image); });
+            report.step("write " + pngPath,
+                        [&] { writeWatched(pngPath, [&] { writePng(pngPath, image); }); });
 
             const double total =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
