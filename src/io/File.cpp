@@ -628,11 +628,14 @@ GridBase::Ptr File::readGridMetadata(std::string_view name) const {
 
 namespace {
 
-/// Appends the descriptor and data of one grid to `out`, whose first byte will sit at file
-/// offset `base`.
-void writeGrid(std::vector<uint8_t>& out, uint64_t base, const GridBase& grid, const GridTypeIo& io,
-               const std::string& uniqueName, const std::string& parent, uint32_t compression,
-               bool stats) {
+/// Appends the descriptor of one grid to `out`, whose first byte will sit at file offset
+/// `base`; its tree follows in the file: the topology in `tree`, then the leaf buffers in
+/// `buffers` (both empty for an instance). They are written from where they were encoded,
+/// never copied behind the descriptor.
+void writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree,
+               std::vector<std::vector<uint8_t>>& buffers, uint64_t base, const GridBase& grid,
+               const GridTypeIo& io, const std::string& uniqueName, const std::string& parent,
+               uint32_t compression, bool stats) {
     ByteWriter w(out);
     const bool half = grid.saveFloatAsHalf();
     w.putString(uniqueName);
@@ -665,27 +668,28 @@ void writeGrid(std::vector<uint8_t>& out, uint64_t base, const GridBase& grid, c
         meta.insertMeta("file_voxel_count", Int64(grid.activeVoxelCount()));
     }
 
-    std::vector<uint8_t> tree;
+    tree.clear();
     TreeWriteInfo info;
     if (parent.empty()) {
         ByteWriter tw(tree);
         TreeWriteOptions options;
         options.flags = flags;
         options.half = half;
+        options.buffersApart = true;
         info = io.write(tw, grid, options);
     }
+    buffers = std::move(info.buffers);
+    uint64_t treeBytes = tree.size();
+    for (const auto& b : buffers)
+        treeBytes += b.size();
     std::map<std::string, std::pair<std::string, std::vector<uint8_t>>> extra;
     if (parent.empty() && io.hasDelayedLoadTable)
         extra[std::string(META_DELAYED_LOAD)] = {"__delayedload", delayedLoadTable(info, flags)};
     writeMetaMap(w, meta, extra);
     writeTransform(w, grid.transform());
 
-    uint64_t blockPos = 0;
-    if (parent.empty()) {
-        blockPos = base + w.pos() + info.buffersOffset;
-        w.write(tree);
-    }
-    const uint64_t endPos = base + w.pos();
+    const uint64_t blockPos = parent.empty() ? base + w.pos() + info.buffersOffset : 0;
+    const uint64_t endPos = base + w.pos() + treeBytes;
     w.patch(offsets, int64_t(gridPos));
     w.patch(offsets + 8, int64_t(blockPos));
     w.patch(offsets + 16, int64_t(endPos));
@@ -798,6 +802,8 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
 
     // Grids that share a tree (and the half setting) become instances of the first.
     std::vector<std::pair<const void*, size_t>> written;
+    std::vector<uint8_t> tree;
+    std::vector<std::vector<uint8_t>> buffers;
     for (size_t i = 0; i < grids.size(); ++i) {
         std::string parent;
         const void* identity = types[i]->treeIdentity(*grids[i]);
@@ -811,9 +817,15 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         if (parent.empty())
             written.emplace_back(identity, i);
         bytes.clear();
-        writeGrid(bytes, offset, *grids[i], *types[i], unique[i], parent, mCompression, mStats);
+        writeGrid(bytes, tree, buffers, offset, *grids[i], *types[i], unique[i], parent,
+                  mCompression, mStats);
         writeAll(out.fd(), bytes, mPath);
-        offset += bytes.size();
+        writeAll(out.fd(), tree, mPath);
+        offset += bytes.size() + tree.size();
+        for (const auto& block : buffers) {
+            writeAll(out.fd(), block, mPath);
+            offset += block.size();
+        }
     }
     out.commit();
 }

@@ -40,6 +40,10 @@ namespace vdb::io {
 struct TreeWriteOptions {
     uint32_t flags = COMPRESS_ACTIVE_MASK;
     bool half = false;
+    /// Leave the leaf buffers' bytes in TreeWriteInfo::buffers (in file order, to be written
+    /// right after the topology) instead of appending them to the writer: a file writer then
+    /// hands them to the file without copying them into one large new buffer.
+    bool buffersApart = false;
 };
 
 /// An open file that out-of-core leaves read their bytes from. It stays open as long as a
@@ -83,6 +87,8 @@ struct TreeWriteInfo {
     size_t buffersOffset = 0;
     std::vector<int8_t> leafCodes;
     std::vector<uint64_t> leafChunkBytes;
+    /// With TreeWriteOptions::buffersApart: the leaf buffers' bytes, in blocks in file order.
+    std::vector<std::vector<uint8_t>> buffers;
 };
 
 /// Appends the topology and buffers of `tree` (a tree with a RootNode on top).
@@ -431,6 +437,10 @@ TreeWriteInfo writeTree(ByteWriter& w, const TreeT& tree, const TreeWriteOptions
                 }
             }
         });
+    if (options.buffersApart) {
+        info.buffers = std::move(out);
+        return info;
+    }
     size_t total = 0;
     for (const auto& o : out)
         total += o.size();
