@@ -2,7 +2,8 @@
 /// @file
 /// Library-neutral inputs for the benchmarks: the Enright sphere narrow band of the paper's
 /// section 5, a portable seeded shuffle, the process memory readings of Table II, and the
-/// command-line helpers the benchmark programs share.
+/// command-line helpers the benchmark programs share, and the Markdown report each program
+/// writes for docs/BENCHMARKS.md (scripts/bench).
 ///
 /// Nothing here includes either tree library, so every benchmark feeds this library and
 /// OpenVDB the same coordinates and values in the same order.
@@ -17,6 +18,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -169,5 +172,124 @@ inline bool parsePositive(const std::string& s, int& value) {
     value = int(v);
     return true;
 }
+
+/// The smallest and largest of a set of ratios (this library / OpenVDB), for the overview line
+/// of a report.
+class RatioRange {
+public:
+    void add(double ratio) {
+        if (!std::isfinite(ratio))
+            return;
+        mMin = std::min(mMin, ratio);
+        mMax = std::max(mMax, ratio);
+    }
+    bool empty() const { return mMin > mMax; }
+    double min() const { return mMin; }
+    double max() const { return mMax; }
+    /// "0.42" or "0.13-0.71"; "n/a" when nothing was added.
+    std::string text() const {
+        if (empty())
+            return "n/a";
+        char buf[64];
+        if (std::abs(mMax - mMin) < 0.005)
+            std::snprintf(buf, sizeof buf, "%.2f", mMin);
+        else
+            std::snprintf(buf, sizeof buf, "%.2f-%.2f", mMin, mMax);
+        return buf;
+    }
+    /// `name range`, with " (target <= t: met|not met)" when the target is positive. Smaller is
+    /// better unless `higherIsBetter` (rays per second).
+    std::string status(const std::string& name, double target = 0.0,
+                       bool higherIsBetter = false) const {
+        std::string out = name + " " + text();
+        if (target > 0.0 && !empty()) {
+            char buf[32];
+            std::snprintf(buf, sizeof buf, "%.2f", target);
+            const bool met = higherIsBetter ? mMin >= target : mMax <= target;
+            out += std::string(" (target ") + (higherIsBetter ? ">= " : "<= ") + buf +
+                   (met ? ": met)" : ": not met)");
+        }
+        return out;
+    }
+
+private:
+    double mMin = std::numeric_limits<double>::infinity();
+    double mMax = -std::numeric_limits<double>::infinity();
+};
+
+/// Formats a number for a report table: `decimals` digits after the point, thousands separated
+/// by commas ("1,234.5").
+inline std::string fmt(double value, int decimals = 2) {
+    if (!std::isfinite(value))
+        return "n/a";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+    std::string text(buf);
+    const size_t begin = text[0] == '-' ? 1 : 0;
+    const size_t point = std::min(text.find('.'), text.size());
+    for (size_t i = point; i > begin + 3; i -= 3)
+        text.insert(i - 3, ",");
+    return text;
+}
+
+/// A ratio cell: two decimals, in bold when it meets `target` (smaller is better unless
+/// `higherIsBetter`); plain when the target is 0.
+inline std::string ratioCell(double ratio, double target = 0.0, bool higherIsBetter = false) {
+    const std::string text = fmt(ratio, 2);
+    const bool met = target > 0.0 && std::isfinite(ratio) &&
+                     (higherIsBetter ? ratio >= target : ratio <= target);
+    return met ? "**" + text + "**" : text;
+}
+
+/// The Markdown a benchmark program writes with `--markdown FILE`: its result tables and
+/// notes, which scripts/bench places into its section of docs/BENCHMARKS.md, and one status line
+/// (FILE.status) for the overview table at the top of that document.
+class MarkdownReport {
+public:
+    using Row = std::vector<std::string>;
+
+    void paragraph(const std::string& text) { mText += text + "\n\n"; }
+
+    void table(const Row& header, const std::vector<Row>& rows) {
+        const auto line = [this](const Row& cells) {
+            mText += "|";
+            for (const std::string& cell : cells)
+                mText += " " + cell + " |";
+            mText += "\n";
+        };
+        line(header);
+        mText += "|";
+        for (size_t i = 0; i < header.size(); ++i)
+            mText += "---|";
+        mText += "\n";
+        for (const Row& row : rows)
+            line(row);
+        mText += "\n";
+    }
+
+    /// Appends `text` to the overview status, separated by "; ".
+    void status(const std::string& text) { mStatus += (mStatus.empty() ? "" : "; ") + text; }
+
+    const std::string& text() const { return mText; }
+
+    /// Writes FILE and FILE.status; false (with a message on stderr) when either fails.
+    bool write(const std::string& path) const {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out << mText;
+        std::ofstream status(path + ".status", std::ios::binary | std::ios::trunc);
+        status << mStatus << "\n";
+        out.close();
+        status.close();
+        if (!out || !status) {
+            std::fprintf(stderr, "cannot write the report %s\n", path.c_str());
+            return false;
+        }
+        return true;
+    }
+
+private:
+    std::string mText;
+    std::string mStatus;
+};
 
 }  // namespace vdb::bench

@@ -18,8 +18,11 @@
 // the codecs and the parser, not of a disk. Every read grid is checked to have the input's
 // active voxel count; medians of --reps runs; ratio = vdb / openvdb.
 //
+// With --markdown FILE the program also writes its results as Markdown tables to FILE and one
+// overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
+//
 // Usage: vdb_bench_io [--res 512,1024,2048] [--reps 5] [--settings mask,zip,blosc,half]
-//                     [--dir /tmp]
+//                     [--dir /tmp] [--markdown FILE]
 
 #include <vdb/tools/SignedFloodFill.h>
 #include <vdb/vdb.h>
@@ -35,7 +38,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -184,34 +186,47 @@ Result measureTheirs(openvdb::FloatGrid& input, const Setting& s, const std::str
 
 // ---- Command line
 
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ','))
-        if (!item.empty())
-            out.push_back(item);
-    return out;
-}
+using vdb::bench::splitList;
 
 [[noreturn]] void usage(const std::string& message) {
     std::fprintf(stderr,
                  "%s\nusage: vdb_bench_io [--res 512,1024,2048] [--reps 5] "
-                 "[--settings mask,zip,blosc,half] [--dir /tmp]\n",
+                 "[--settings mask,zip,blosc,half] [--dir /tmp] [--markdown FILE]\n",
                  message.c_str());
     std::exit(2);
 }
 
 int parsePositive(const std::string& s, const char* what) {
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v < 1 || v > 1 << 16)
+    int v = 0;
+    if (!vdb::bench::parsePositive(s, v))
         usage(std::string("bad ") + what + " '" + s + "'");
-    return int(v);
+    return v;
 }
 
 double mib(uint64_t bytes) {
     return double(bytes) / (1024.0 * 1024.0);
+}
+
+// ---- Markdown report
+
+using vdb::bench::fmt;
+using vdb::bench::ratioCell;
+
+// The targets: files no larger than OpenVDB's, reading in 0.8 and writing in 0.7 of its time.
+constexpr double kSizeTarget = 1.0, kReadTarget = 0.8, kWriteTarget = 0.7;
+
+/// The paper's Table IV memory (in-core / out-of-core, MB) at `res`, or "" where it gives none.
+std::string paperMemory(int res) {
+    switch (res) {
+        case 512:
+            return "6.7 / 0.4";
+        case 1024:
+            return "26.5 / 1.9";
+        case 2048:
+            return "105.3 / 7.1";
+        default:
+            return "";
+    }
 }
 
 }  // namespace
@@ -221,6 +236,7 @@ int main(int argc, char** argv) {
     int reps = 5;
     std::vector<std::string> settings{"mask", "zip", "blosc", "half"};
     std::filesystem::path dir = std::filesystem::temp_directory_path();
+    std::string markdownPath;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (i + 1 >= argc)
@@ -236,6 +252,8 @@ int main(int argc, char** argv) {
             settings = splitList(value);
         } else if (arg == "--dir") {
             dir = value;
+        } else if (arg == "--markdown") {
+            markdownPath = value;
         } else {
             usage("unknown argument " + arg);
         }
@@ -251,6 +269,13 @@ int main(int argc, char** argv) {
     std::printf("%5s %-6s %-9s %10s %10s %6s\n", "res", "codec", "measure", "vdb", "openvdb",
                 "ratio");
     bool ok = true;
+    vdb::bench::MarkdownReport report;
+    std::vector<vdb::bench::MarkdownReport::Row> rows, memoryRows;
+    std::vector<std::string> inputs, wrongCounts;
+    std::string memorySetting;  // the setting whose reads the memory table shows
+    vdb::bench::RatioRange readRatios, writeRatios;
+    bool sizesNoLarger = true;
+    double maxSizeRatio = 0.0;
     for (const int res : resolutions) {
         const auto band = vdb::bench::makeEnrightBand(res);
         const auto ours = makeOurs(band);
@@ -260,6 +285,10 @@ int main(int argc, char** argv) {
             "%.2f MiB\n",
             res, (unsigned long long)ours->activeVoxelCount(), ours->tree().leafCount(),
             mib(ours->memUsage()), mib(theirs->memUsage()));
+        inputs.push_back(fmt(double(ours->activeVoxelCount()), 0) + " active voxels and " +
+                         fmt(double(ours->tree().leafCount()), 0) + " leaves at " +
+                         std::to_string(res) + "^3");
+        bool firstOfRes = true;
         for (const std::string& name : settings) {
             const Setting s = settingNamed(name);
             const Result a = measureOurs(*ours, s, ourPath, reps);
@@ -279,9 +308,77 @@ int main(int argc, char** argv) {
                 std::printf("# %s: a read grid had the wrong active voxel count\n",
                             !a.ok ? "vdb" : "openvdb");
             std::fflush(stdout);
+
+            // One memory row per resolution, from the reads of its first setting.
+            if (firstOfRes) {
+                memorySetting = name;
+                memoryRows.push_back({std::to_string(res), fmt(mib(a.eagerMem), 2),
+                                      fmt(mib(a.delayedMem), 2), fmt(mib(b.eagerMem), 2),
+                                      fmt(mib(b.delayedMem), 2), paperMemory(res)});
+            }
+            if (!a.ok || !b.ok)
+                wrongCounts.push_back(std::string(!a.ok ? "vdb" : "OpenVDB") + " at " +
+                                      std::to_string(res) + "^3, " + name);
+            const double sizeRatio = double(a.fileBytes) / double(b.fileBytes);
+            sizesNoLarger = sizesNoLarger && a.fileBytes <= b.fileBytes;
+            maxSizeRatio = std::max(maxSizeRatio, sizeRatio);
+            readRatios.add(a.eagerMs / b.eagerMs);
+            readRatios.add(a.delayedMs / b.delayedMs);
+            writeRatios.add(a.writeMs / b.writeMs);
+            // res and setting head only the first row of their group.
+            bool firstOfSetting = true;
+            const auto mdRow = [&](const char* what, const std::string& x, const std::string& y,
+                                   double ratio, double target) {
+                rows.push_back({firstOfSetting && firstOfRes ? std::to_string(res) : "",
+                                firstOfSetting ? name : "", what, x, y, ratioCell(ratio, target)});
+                firstOfSetting = false;
+            };
+            mdRow("size (MiB)", fmt(mib(a.fileBytes), 2), fmt(mib(b.fileBytes), 2), sizeRatio,
+                  kSizeTarget);
+            mdRow("write (ms)", fmt(a.writeMs, 1), fmt(b.writeMs, 1), a.writeMs / b.writeMs,
+                  kWriteTarget);
+            mdRow("read eager (ms)", fmt(a.eagerMs, 1), fmt(b.eagerMs, 1), a.eagerMs / b.eagerMs,
+                  kReadTarget);
+            mdRow("read delayed (ms)", fmt(a.delayedMs, 1), fmt(b.delayedMs, 1),
+                  a.delayedMs / b.delayedMs, kReadTarget);
+            firstOfRes = false;
         }
     }
     std::filesystem::remove(ourPath);
     std::filesystem::remove(theirPath);
+
+    if (!markdownPath.empty()) {
+        std::string input;
+        for (const std::string& text : inputs)
+            input += (input.empty() ? "" : "; ") + text;
+        report.paragraph("Input: " + input + ".");
+        report.paragraph("**Sizes and times** (Tables V, VI). Medians of " + std::to_string(reps) +
+                         (reps == 1 ? " run" : " runs") +
+                         "; ratio = vdb / OpenVDB, in bold where it meets the target (size 1.0, "
+                         "write 0.7, read 0.8).");
+        report.table({"res", "setting", "measure", "vdb", "OpenVDB", "ratio"}, rows);
+        report.paragraph(
+            "**Memory (Table IV).** `memUsage()` of the grid read eager / delayed " +
+            (memorySetting.empty() ? std::string() : "with setting `" + memorySetting + "`") +
+            ", in MiB:");
+        report.table({"res", "vdb eager", "vdb delayed", "OpenVDB eager", "OpenVDB delayed",
+                      "paper (in-core / out-of-core, MB)"},
+                     memoryRows);
+        char sizes[96];
+        std::snprintf(sizes, sizeof sizes, "sizes <= OpenVDB: %s (max size ratio %.3f)",
+                      sizesNoLarger ? "yes" : "no", maxSizeRatio);
+        report.status(sizes);
+        report.status(readRatios.status("read", kReadTarget));
+        report.status(writeRatios.status("write", kWriteTarget));
+        if (!wrongCounts.empty()) {
+            std::string where;
+            for (const std::string& text : wrongCounts)
+                where += (where.empty() ? "" : "; ") + text;
+            report.paragraph("**A read grid had the wrong active voxel count:** " + where + ".");
+            report.status("wrong active voxel count after reading");
+        }
+        if (!report.write(markdownPath))
+            return 1;
+    }
     return ok ? 0 : 1;
 }

@@ -24,7 +24,11 @@
 // libraries with the same schemes and reports the volume loss, each library's final grid
 // measured by the same smeared-Heaviside volume (vdb::tools::levelSetVolume).
 //
+// With --markdown FILE the program also writes its results as Markdown tables to FILE and one
+// overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
+//
 // Usage: vdb_bench_levelset [--res 256,512,1024] [--reps 3] [--threads 1,all] [--enright 0]
+//                           [--markdown FILE]
 
 #include <vdb/tools/EnrightTest.h>
 #include <vdb/tools/LevelSetAdvect.h>
@@ -206,30 +210,67 @@ vdb::FloatGrid::Ptr fullPeriod(const typename Lib::GridType& input, size_t& step
     }
 }
 
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    size_t begin = 0;
-    while (begin <= s.size()) {
-        const size_t comma = std::min(s.find(',', begin), s.size());
-        if (comma > begin)
-            out.push_back(s.substr(begin, comma - begin));
-        begin = comma + 1;
-    }
-    return out;
+using vdb::bench::splitList;
+
+[[noreturn]] void usage(const std::string& message) {
+    std::fprintf(stderr,
+                 "%s\nusage: vdb_bench_levelset [--res 256,512,1024] [--reps 3] "
+                 "[--threads 1,all] [--enright 0] [--markdown FILE]\n",
+                 message.c_str());
+    std::exit(2);
 }
 
+/// Parses a whole number in [0, 65536] (0 turns --enright off); exits with the usage otherwise.
 int positive(const std::string& s) {
     char* end = nullptr;
     const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v < 0 || v > 1 << 16) {
-        std::fprintf(stderr,
-                     "bad number '%s'\nusage: vdb_bench_levelset [--res 256,512,1024] "
-                     "[--reps 3] [--threads 1,all] [--enright 0]\n",
-                     s.c_str());
-        std::exit(2);
-    }
+    if (s.empty() || *end != '\0' || v < 0 || v > 1 << 16)
+        usage("bad number '" + s + "'");
     return int(v);
 }
+
+// ---- Markdown report ----
+
+using vdb::bench::fmt;
+
+/// The target of the Table III step: at most 0.8 times OpenVDB's time.
+constexpr double kTarget = 0.8;
+
+/// Milliseconds as the tables show them: whole numbers, one decimal below 100 ms.
+std::string msText(double ms) {
+    return fmt(ms, ms < 100.0 ? 1 : 0);
+}
+
+/// How far the two libraries' results of one resolution lie apart, worst over its runs.
+struct Agreement {
+    int res = 0;
+    double maxDiffVoxels = 0.0;
+    uint64_t activeOurs = 0, activeTheirs = 0;  // of the run whose counts differ most
+    double activeDiff = -1.0;                   // relative, of that run
+    size_t stepsOurs = 0, stepsTheirs = 0;
+
+    void add(const Timing& a, const Timing& b, double diffVoxels) {
+        maxDiffVoxels = std::max(maxDiffVoxels, diffVoxels);
+        const uint64_t na = a.result->activeVoxelCount(), nb = b.result->activeVoxelCount();
+        const double rel = double(na > nb ? na - nb : nb - na) / double(std::max<uint64_t>(1, nb));
+        if (rel > activeDiff) {
+            activeDiff = rel;
+            activeOurs = na;
+            activeTheirs = nb;
+        }
+        stepsOurs = std::max(stepsOurs, a.steps);
+        stepsTheirs = std::max(stepsTheirs, b.steps);
+    }
+
+    vdb::bench::MarkdownReport::Row row() const {
+        char diff[32];
+        std::snprintf(diff, sizeof diff, "%.2g", maxDiffVoxels);
+        return {std::to_string(res),
+                std::to_string(stepsOurs) + " / " + std::to_string(stepsTheirs),
+                fmt(double(activeOurs), 0) + " / " + fmt(double(activeTheirs), 0),
+                fmt(100.0 * activeDiff, 3) + "%", diff};
+    }
+};
 
 }  // namespace
 
@@ -237,8 +278,12 @@ int main(int argc, char** argv) {
     std::vector<int> resolutions{256, 512, 1024};
     std::vector<std::string> threads{"1", "all"};
     int reps = 3, enright = 0;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const std::string arg = argv[i], value = argv[i + 1];
+    std::string markdownPath;
+    for (int i = 1; i < argc; i += 2) {
+        const std::string arg = argv[i];
+        if (i + 1 >= argc)
+            usage("missing value after " + arg);
+        const std::string value = argv[i + 1];
         if (arg == "--res") {
             resolutions.clear();
             for (const std::string& r : splitList(value))
@@ -249,8 +294,10 @@ int main(int argc, char** argv) {
             threads = splitList(value);
         } else if (arg == "--enright") {
             enright = positive(value);
+        } else if (arg == "--markdown") {
+            markdownPath = value;
         } else {
-            positive(arg);  // reports the unknown argument and exits
+            usage("unknown argument " + arg);
         }
     }
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -263,15 +310,21 @@ int main(int argc, char** argv) {
         reps);
     std::printf("%5s %10s %7s %9s %9s %6s %9s %9s %6s  %s\n", "res", "active", "threads", "vdb",
                 "openvdb", "ratio", "vdb cpu", "ovdb cpu", "ratio", "results");
+    vdb::bench::MarkdownReport report;
+    std::vector<vdb::bench::MarkdownReport::Row> stepRows, agreementRows;
+    vdb::bench::RatioRange wallRatios, cpuRatios;
     for (const int res : resolutions) {
         const auto band = vdb::bench::makeEnrightBand(res);
         const auto ours = Vdb::build(band, res);
         const auto theirs = OpenVdb::build(band, res);
+        Agreement agreement;
+        agreement.res = res;
         for (const std::string& t : threads) {
             const int n = t == "all" ? cores : positive(t);
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             const Timing a = timeStep<Vdb>(*ours, reps);
             const Timing b = timeStep<OpenVdb>(*theirs, reps);
+            const double diffVoxels = maxDifference(*a.result, *b.result) * res;
             std::printf(
                 "%5d %10llu %7d %9.1f %9.1f %6.2f %9.1f %9.1f %6.2f  steps %zu/%zu, active "
                 "after %llu/%llu, max |vdb - openvdb| %.2g voxels\n",
@@ -279,11 +332,40 @@ int main(int argc, char** argv) {
                 a.medianMs / b.medianMs, a.medianCpuMs, b.medianCpuMs,
                 a.medianCpuMs / b.medianCpuMs, a.steps, b.steps,
                 (unsigned long long)a.result->activeVoxelCount(),
-                (unsigned long long)b.result->activeVoxelCount(),
-                maxDifference(*a.result, *b.result) * res);
+                (unsigned long long)b.result->activeVoxelCount(), diffVoxels);
             std::fflush(stdout);
+            agreement.add(a, b, diffVoxels);
+            wallRatios.add(a.medianMs / b.medianMs);
+            cpuRatios.add(a.medianCpuMs / b.medianCpuMs);
+            stepRows.push_back({std::to_string(res), fmt(double(Vdb::activeVoxels(*ours)), 0),
+                                std::to_string(n), msText(a.medianMs), msText(b.medianMs),
+                                vdb::bench::ratioCell(a.medianMs / b.medianMs, kTarget),
+                                msText(a.medianCpuMs), msText(b.medianCpuMs),
+                                vdb::bench::ratioCell(a.medianCpuMs / b.medianCpuMs, kTarget)});
         }
+        if (!threads.empty())
+            agreementRows.push_back(agreement.row());
     }
+    report.paragraph("**Table III step.** Medians of " + std::to_string(reps) +
+                     (reps == 1 ? " run" : " runs") +
+                     ", milliseconds; ratio = vdb / OpenVDB, in bold where it meets the target "
+                     "of 0.8; " +
+                     std::to_string(cores) + " hardware threads.");
+    report.table({"R", "active voxels", "threads", "vdb ms", "OpenVDB ms", "ratio", "vdb CPU ms",
+                  "OpenVDB CPU ms", "CPU ratio"},
+                 stepRows);
+    report.paragraph(
+        "**Agreement** of the two results after the step, worst over the runs of each R: steps "
+        "taken, active voxels, and the largest value difference over the voxels active in "
+        "either.");
+    report.table({"R", "steps vdb / OpenVDB", "active voxels vdb / OpenVDB", "difference",
+                  "max value difference (voxels)"},
+                 agreementRows);
+    // The status line: both ranges, judged on wall-clock time as the paper's Table III is.
+    std::string status = wallRatios.status("step", kTarget);
+    status.insert(std::string("step ").size() + wallRatios.text().size(),
+                  " wall, " + cpuRatios.text() + " CPU");
+    report.status(status);
 
     if (enright > 0) {
         const auto band = vdb::bench::makeEnrightBand(enright);
@@ -302,7 +384,28 @@ int main(int argc, char** argv) {
                     100.0 * (v0 - va) / v0);
         std::printf("%-8s %6zu %9.1f %12.6g %10.3f\n", "openvdb", stepsB, secB, vb,
                     100.0 * (v0 - vb) / v0);
+
+        const double lossA = 100.0 * (v0 - va) / v0, lossB = 100.0 * (v0 - vb) / v0;
+        char volume[32];
+        std::snprintf(volume, sizeof volume, "%.6g", v0);
+        report.paragraph("**Volume loss, full period** (t = 0 to 3) at " + std::to_string(enright) +
+                         "^3, " + std::to_string(cores) + " threads, initial volume " + volume +
+                         ":");
+        const auto row = [](const char* library, size_t steps, double seconds, double v,
+                            double loss) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.6g", v);
+            return vdb::bench::MarkdownReport::Row{library, fmt(loss, 2) + "%", text,
+                                                   fmt(double(steps), 0), fmt(seconds, 1)};
+        };
+        report.table(
+            {"library", "volume loss after t = 3", "final volume", "steps", "time (s)"},
+            {row("vdb", stepsA, secA, va, lossA), row("OpenVDB 10", stepsB, secB, vb, lossB)});
+        report.status("Enright " + std::to_string(enright) + "^3 volume loss vdb " + fmt(lossA, 2) +
+                      "% / OpenVDB " + fmt(lossB, 2) + "%");
     }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
+    if (!markdownPath.empty() && !report.write(markdownPath))
+        return 1;
     return 0;
 }

@@ -16,8 +16,12 @@
 // OpenVDB, and the active voxel counts of both results. "1 thread" runs under
 // tbb::global_control with one thread for both libraries; "all" uses every core.
 //
+// With --markdown FILE the program also writes its results as a Markdown table to FILE and
+// one overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
+//
 // Usage: vdb_bench_mesh [--cases sphere:256:10000,wuson:512,...]
 //                       [--particles 1024:100000,...] [--reps 3] [--threads 1,all]
+//                       [--markdown FILE]
 
 #include <vdb/meshio/MeshReader.h>
 #include <vdb/tools/MeshToVolume.h>
@@ -41,6 +45,7 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -166,7 +171,8 @@ using vdb::bench::splitList;
 [[noreturn]] void usage(const char* message) {
     std::fprintf(stderr,
                  "%s\nusage: vdb_bench_mesh [--cases shape:res:triangles,wuson:res,...] "
-                 "[--particles res:count,...] [--reps 3] [--threads 1,all]\n",
+                 "[--particles res:count,...] [--reps 3] [--threads 1,all] "
+                 "[--markdown FILE]\n",
                  message);
     std::exit(2);
 }
@@ -187,6 +193,57 @@ void printRow(const char* what, const std::string& input, int res, int threads, 
     std::fflush(stdout);
 }
 
+// ---- Markdown report ----
+
+using vdb::bench::fmt;
+
+/// The target of both tools: at most 0.8 times OpenVDB's time.
+constexpr double kTarget = 0.8;
+
+/// "1e5" for a count of the form d * 10^k (k >= 3), as the particle cases are named;
+/// "12,345" otherwise.
+std::string countText(uint64_t count) {
+    int exponent = 0;
+    uint64_t digit = count;
+    while (digit >= 10 && digit % 10 == 0) {
+        digit /= 10;
+        ++exponent;
+    }
+    if (digit < 10 && exponent >= 3)
+        return std::to_string(digit) + "e" + std::to_string(exponent);
+    return fmt(double(count), 0);
+}
+
+/// The rows of one case, one per thread count: the tool, input and active voxel counts are
+/// named on the first row only (later rows repeat the counts only where they differ).
+class CaseRows {
+public:
+    CaseRows(std::string tool, std::string input, int res)
+        : mTool(std::move(tool)), mInput(std::move(input)), mRes(res) {}
+
+    void add(int threads, double ours, double theirs, uint64_t activeOurs, uint64_t activeTheirs,
+             std::vector<vdb::bench::MarkdownReport::Row>& rows) {
+        const bool first = mFirst;
+        const bool sameActive =
+            !first && activeOurs == mActiveOurs && activeTheirs == mActiveTheirs;
+        if (first) {
+            mActiveOurs = activeOurs;
+            mActiveTheirs = activeTheirs;
+            mFirst = false;
+        }
+        rows.push_back(
+            {first ? mTool : "", first ? mInput : "", std::to_string(mRes), std::to_string(threads),
+             fmt(ours, 1), fmt(theirs, 1), vdb::bench::ratioCell(ours / theirs, kTarget),
+             sameActive ? "" : fmt(double(activeOurs), 0) + " / " + fmt(double(activeTheirs), 0)});
+    }
+
+private:
+    std::string mTool, mInput;
+    int mRes;
+    bool mFirst = true;
+    uint64_t mActiveOurs = 0, mActiveTheirs = 0;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -196,6 +253,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> particles{"1024:100000", "1024:1000000"};
     int reps = 3;
     std::vector<std::string> threads{"1", "all"};
+    std::string markdownPath;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (i + 1 >= argc)
@@ -209,6 +267,8 @@ int main(int argc, char** argv) {
             reps = int(parsePositive(value, "repetition count"));
         } else if (arg == "--threads") {
             threads = splitList(value);
+        } else if (arg == "--markdown") {
+            markdownPath = value;
         } else {
             usage(("unknown argument " + arg).c_str());
         }
@@ -219,6 +279,8 @@ int main(int argc, char** argv) {
                 reps);
     std::printf("%-9s %-16s %5s %7s %10s %10s %6s  %s\n", "tool", "input", "res", "threads", "vdb",
                 "openvdb", "ratio", "active voxels vdb / openvdb");
+    std::vector<vdb::bench::MarkdownReport::Row> rows;
+    vdb::bench::RatioRange meshRatios, particleRatios;
     for (const std::string& c : cases) {
         const auto parts = splitList(c, ':');
         if (parts.size() != (parts.empty() || parts[0] != "wuson" ? 3u : 2u))
@@ -228,8 +290,12 @@ int main(int argc, char** argv) {
             makeMesh(parts[0], parts.size() > 2 ? int(parsePositive(parts[2], "triangles")) : 0);
         const double voxelSize = voxelSizeFor(mesh, res);
         const OpenVdbMesh theirMesh(mesh);
-        const std::string input =
-            parts[0] + " " + std::to_string(mesh.triangles.size() + 2 * mesh.quads.size());
+        const size_t triangles = mesh.triangles.size() + 2 * mesh.quads.size();
+        const std::string input = parts[0] + " " + std::to_string(triangles);
+        CaseRows caseRows("mesh",
+                          (parts[0] == "wuson" ? std::string("Wuson.ply") : parts[0]) + ", " +
+                              fmt(double(triangles), 0) + " triangles",
+                          res);
         for (const std::string& t : threads) {
             const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
@@ -239,6 +305,8 @@ int main(int argc, char** argv) {
             const double theirs = timeMs(
                 reps, [&] { return openvdbMesh(theirMesh, voxelSize); }, b);
             printRow("mesh", input, res, n, ours, theirs, a, b);
+            caseRows.add(n, ours, theirs, a, b, rows);
+            meshRatios.add(ours / theirs);
         }
     }
     for (const std::string& c : particles) {
@@ -254,6 +322,7 @@ int main(int argc, char** argv) {
             theirs.positions.emplace_back(p[0], p[1], p[2]);
             theirs.radii.push_back(spheres.radii[n]);
         }
+        CaseRows caseRows("particles", "torus-knot-helix, " + countText(count) + " spheres", res);
         for (const std::string& t : threads) {
             const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
@@ -263,8 +332,25 @@ int main(int argc, char** argv) {
             const double other = timeMs(
                 reps, [&] { return openvdbParticles(theirs, res); }, b);
             printRow("particles", "tkh " + std::to_string(count), res, n, ours, other, a, b);
+            caseRows.add(n, ours, other, a, b, rows);
+            particleRatios.add(ours / other);
         }
     }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
-    return 0;
+    if (markdownPath.empty())
+        return 0;
+
+    vdb::bench::MarkdownReport md;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "Medians of %d runs in milliseconds; ratio = vdb / OpenVDB, in bold where it "
+                  "meets the target (at most %.2f). The machine has %d hardware threads.",
+                  reps, kTarget, cores);
+    md.paragraph(line);
+    md.table({"tool", "input", "res", "threads", "vdb ms", "OpenVDB ms", "ratio",
+              "active voxels vdb / OpenVDB"},
+             rows);
+    md.status(meshRatios.status("mesh", kTarget));
+    md.status(particleRatios.status("particles", kTarget));
+    return md.write(markdownPath) ? 0 : 1;
 }

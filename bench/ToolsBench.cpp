@@ -22,8 +22,11 @@
 // the repetitions is reported. "1 thread" runs under tbb::global_control with one thread for
 // both libraries; "all" uses every core the machine has.
 //
+// With --markdown FILE the program also writes its results as Markdown tables to FILE and one
+// overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
+//
 // Usage: vdb_bench_tools [--res 512,1024,2048] [--reps 5] [--ops dilate,erode,...]
-//                        [--threads 1,all]
+//                        [--threads 1,all] [--markdown FILE]
 
 #include <vdb/tools/Composite.h>
 #include <vdb/tools/Morphology.h>
@@ -49,6 +52,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -248,7 +252,7 @@ Timing run(const std::string& op, const Inputs<Lib>& in, int reps) {
     std::fprintf(stderr,
                  "%s\nusage: vdb_bench_tools [--res 512,1024,2048] [--reps 5] "
                  "[--ops dilate,erode,brute,floodfill,union,intersection,difference] "
-                 "[--threads 1,all]\n",
+                 "[--threads 1,all] [--markdown FILE]\n",
                  message);
     std::exit(2);
 }
@@ -260,6 +264,133 @@ int parsePositive(const std::string& s, const char* what) {
     return v;
 }
 
+// ---- Markdown report ----
+
+using vdb::bench::fmt;
+
+/// Ratios at most this are in bold in the report.
+constexpr double kGoodRatio = 0.8;
+
+/// One printed row, kept for the report.
+struct Measurement {
+    std::string op;
+    int res = 0;
+    int threads = 0;
+    Timing ours, theirs;
+};
+
+/// The operation's name in the report, and the group of its overview range ("" for the
+/// brute-force baseline, which is no tool of either library).
+std::pair<std::string, std::string> describe(const std::string& op) {
+    if (op == "dilate")
+        return {"dilate by 1 (face)", "dilate/erode"};
+    if (op == "erode")
+        return {"erode by 1 (face)", "dilate/erode"};
+    if (op == "brute")
+        return {"brute-force dilation (random insert)", ""};
+    if (op == "floodfill")
+        return {"signed flood fill", "flood fill"};
+    return {"CSG " + op, "CSG"};
+}
+
+/// The tables of docs/BENCHMARKS.md: every measurement grouped by operation (in the order of
+/// --ops), then resolution and thread count; then the brute-force dilation against each
+/// library's mask dilation. The overview line gives the ranges of the ratios.
+vdb::bench::MarkdownReport report(const std::vector<Measurement>& measured,
+                                  const std::vector<std::string>& ops, int reps, int cores) {
+    std::vector<Measurement> sorted = measured;
+    const auto rank = [&](const Measurement& m) {
+        return std::find(ops.begin(), ops.end(), m.op) - ops.begin();
+    };
+    std::stable_sort(sorted.begin(), sorted.end(),
+                     [&](const Measurement& a, const Measurement& b) { return rank(a) < rank(b); });
+
+    vdb::bench::MarkdownReport md;
+    std::vector<vdb::bench::MarkdownReport::Row> rows;
+    vdb::bench::RatioRange all;
+    std::vector<std::pair<std::string, vdb::bench::RatioRange>> groups;
+    bool differ = false;
+    for (size_t i = 0; i < sorted.size(); ++i) {
+        const Measurement& m = sorted[i];
+        const Measurement* prev = i ? &sorted[i - 1] : nullptr;
+        const auto described = describe(m.op);
+        const std::string& name = described.first;
+        const std::string& group = described.second;
+        const double ratio = m.ours.medianMs / m.theirs.medianMs;
+        // The operation is named on the first row of its group, the result on the first row of
+        // each resolution and wherever it changes.
+        const bool newOp = !prev || prev->op != m.op;
+        const bool newResult = newOp || prev->res != m.res || prev->ours.outcome != m.ours.outcome;
+        std::string result;
+        if (m.ours.outcome != m.theirs.outcome) {
+            differ = true;
+            result = "**differ:** " + fmt(double(m.ours.outcome.activeVoxels), 0) + " / " +
+                     fmt(double(m.theirs.outcome.activeVoxels), 0);
+        } else if (newResult) {
+            result = fmt(double(m.ours.outcome.activeVoxels), 0);
+        }
+        rows.push_back({newOp ? name : "", std::to_string(m.res), std::to_string(m.threads),
+                        fmt(m.ours.medianMs, 2), fmt(m.theirs.medianMs, 2),
+                        vdb::bench::ratioCell(ratio, kGoodRatio), result});
+        if (group.empty())
+            continue;
+        all.add(ratio);
+        auto it = std::find_if(groups.begin(), groups.end(),
+                               [&](const auto& g) { return g.first == group; });
+        if (it == groups.end())
+            it = groups.insert(groups.end(), {group, vdb::bench::RatioRange()});
+        it->second.add(ratio);
+    }
+
+    // Brute force against mask dilation, each library against itself, at the thread count the
+    // brute force ran with.
+    std::vector<vdb::bench::MarkdownReport::Row> bruteRows;
+    for (const Measurement& brute : sorted) {
+        if (brute.op != "brute")
+            continue;
+        for (const Measurement& mask : sorted) {
+            if (mask.op == "dilate" && mask.res == brute.res && mask.threads == brute.threads)
+                bruteRows.push_back({std::to_string(brute.res), std::to_string(brute.threads),
+                                     fmt(brute.ours.medianMs / mask.ours.medianMs, 1),
+                                     fmt(brute.theirs.medianMs / mask.theirs.medianMs, 1)});
+        }
+    }
+
+    const std::string protocol =
+        reps > 1 ? "Medians of " + std::to_string(reps) + " runs" : "One run per figure";
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%s in milliseconds; ratio = vdb / OpenVDB, in bold where it is at most %.2f. "
+                  "The machine has %d hardware threads.",
+                  protocol.c_str(), kGoodRatio, cores);
+    md.paragraph(line);
+    md.table(
+        {"operation", "res", "threads", "vdb ms", "OpenVDB ms", "ratio", "active voxels after"},
+        rows);
+    if (differ)
+        md.paragraph(
+            "**The libraries' results differ where marked (active voxels vdb / OpenVDB).**");
+    if (!bruteRows.empty()) {
+        md.paragraph(
+            "Brute-force dilation (random insertion) against mask dilation "
+            "(`dilateActiveValues`): the time of the one over the time of the other, each "
+            "library against itself.");
+        md.table({"res", "threads", "vdb brute force / vdb dilation",
+                  "OpenVDB brute force / OpenVDB dilation"},
+                 bruteRows);
+    }
+
+    md.status(all.text() + " over all operations");
+    std::string ranges;
+    for (const auto& [group, range] : groups)
+        ranges += (ranges.empty() ? "" : ", ") + range.status(group);
+    if (!ranges.empty())
+        md.status(ranges);
+    if (differ)
+        md.status("results differ");
+    return md;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -268,6 +399,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> ops{"dilate", "erode",        "brute",     "floodfill",
                                  "union",  "intersection", "difference"};
     std::vector<std::string> threads{"1", "all"};
+    std::string markdownPath;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (i + 1 >= argc)
@@ -283,6 +415,8 @@ int main(int argc, char** argv) {
             ops = vdb::bench::splitList(value);
         } else if (arg == "--threads") {
             threads = vdb::bench::splitList(value);
+        } else if (arg == "--markdown") {
+            markdownPath = value;
         } else {
             usage(("unknown argument " + arg).c_str());
         }
@@ -295,6 +429,7 @@ int main(int argc, char** argv) {
     std::printf("%-13s %5s %7s %12s %12s %6s  %s\n", "operation", "res", "threads", "vdb",
                 "openvdb", "ratio", "results");
     bool allMatch = true;
+    std::vector<Measurement> measured;
     for (const int res : resolutions) {
         const auto sphereVoxels = vdb::bench::makeEnrightBand(res);
         const auto torusVoxels = makeTorusBand(res);
@@ -312,6 +447,7 @@ int main(int argc, char** argv) {
                 const Timing b = run<OpenVdb>(op, theirs, reps);
                 const bool match = a.outcome == b.outcome;
                 allMatch = allMatch && match;
+                measured.push_back({op, res, n, a, b});
                 std::printf("%-13s %5d %7d %12.2f %12.2f %6.2f  %s (%llu active, %llu leaves)\n",
                             op.c_str(), res, n, a.medianMs, b.medianMs, a.medianMs / b.medianMs,
                             match ? "same" : "DIFFERENT",
@@ -326,5 +462,7 @@ int main(int argc, char** argv) {
         }
     }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
+    if (!markdownPath.empty() && !report(measured, ops, reps, cores).write(markdownPath))
+        return 1;
     return allMatch ? 0 : 1;
 }

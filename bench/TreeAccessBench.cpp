@@ -23,6 +23,10 @@
 //   BM_RandomInsert / BM_RandomInsertTopDown
 //                      the whole band in random order into an empty tree, with an accessor
 //                      or with tree.setValue()
+//
+// With --markdown FILE (taken out of the arguments before Google Benchmark reads them) the
+// program also writes the tables of docs/BENCHMARKS.md to FILE and one overview line to
+// FILE.status (scripts/bench).
 
 #include <vdb/tree/TreeConfigs.h>
 #include <vdb/tree/ValueAccessor.h>
@@ -33,12 +37,15 @@
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -490,6 +497,7 @@ public:
             slot.realNs = run.GetAdjustedRealTime() * toNs;
             slot.cpuNs = run.GetAdjustedCPUTime() * toNs;
             slot.counters = run.counters;
+            mRepetitions = std::max(mRepetitions, single ? int64_t(1) : int64_t(run.repetitions));
             if (std::find(mRows.begin(), mRows.end(), op) == mRows.end())
                 mRows.push_back(op);
         }
@@ -531,24 +539,207 @@ public:
             printTable(rows, run->second, &run->second);
         }
 
-        double worstWait = 1.0;  // largest wall-clock / CPU time of any result
-        for (const auto& [stat, byOp] : mResults)
-            for (const auto& [op, byLib] : byOp)
-                for (const auto& [lib, r] : byLib)
-                    if (r.cpuNs > 0)
-                        worstWait = std::max(worstWait, r.realNs / r.cpuNs);
-        if (worstWait > 1.05) {
+        const double wait = worstWait();
+        if (wait > 1.05) {
             std::printf(
                 "Note: wall-clock time exceeded CPU time by up to %.0f%%: other processes "
                 "competed for the CPU and its caches; read the OpenVdbTwin column (the noise "
                 "floor) before the others.\n",
-                100.0 * (worstWait - 1.0));
+                100.0 * (wait - 1.0));
         }
+    }
+
+    /// Adds the tables of docs/BENCHMARKS.md to `md`, Table II's lookups and the other
+    /// operations, and the overview line. Times are CPU nanoseconds per operation, the medians
+    /// over the repetitions as in the printed summary (single runs where there was one
+    /// repetition); each library's figure is followed by its ratio to OpenVdb's.
+    void addMarkdown(vdb::bench::MarkdownReport& md) const {
+        std::vector<std::string> libs, headers;
+        forEachLibrary([&](auto lib) {
+            using Lib = typename decltype(lib)::type;
+            libs.push_back(Lib::kName);
+            // OpenVdbTwin is OpenVdb's configuration again; the configurations of this
+            // library's trees are what Table II compares.
+            const bool ours = std::string(Lib::kName).rfind("Vdb", 0) == 0;
+            headers.push_back(ours ? std::string(Lib::kName) + " " + Lib::kConfig : Lib::kName);
+        });
+        const size_t vdb = size_t(std::find(libs.begin(), libs.end(), "Vdb") - libs.begin());
+        const size_t twin =
+            size_t(std::find(libs.begin(), libs.end(), "OpenVdbTwin") - libs.begin());
+        vdb::bench::RatioRange lookups, sequential, insertion, memory, noise;
+
+        // The per-library figures of a row, NaN where a library has none.
+        using Figures = std::vector<double>;
+        const auto figures = [&](const ByLib* byLib, auto metric) {
+            Figures out(libs.size(), kMissing);
+            for (size_t i = 0; byLib && i < libs.size(); ++i)
+                if (const auto it = byLib->find(libs[i]); it != byLib->end())
+                    out[i] = metric(it->second);
+            return out;
+        };
+        const auto nsPerOp = [](const Result& r) {
+            const double ops = counter(r, "ops");
+            return ops > 0 ? r.cpuNs / ops : kMissing;
+        };
+        const auto has = [](const Figures& f) {
+            return std::any_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); });
+        };
+        // "3.87 (1.21)": a figure and its ratio to OpenVdb's, the Vdb ratio in bold; adds the
+        // Vdb ratio to `range` and the OpenVdbTwin ratio to `twinRange` unless they are null.
+        const auto row = [&](const std::string& label, const Figures& f, int decimals, bool ratios,
+                             vdb::bench::RatioRange* range, vdb::bench::RatioRange* twinRange) {
+            MarkdownRow cells{label, vdb::bench::fmt(f[0], decimals)};
+            for (size_t i = 1; i < f.size(); ++i) {
+                std::string cell = vdb::bench::fmt(f[i], decimals);
+                const double ratio = f[i] / f[0];
+                if (ratios && std::isfinite(ratio)) {
+                    const std::string text = vdb::bench::fmt(ratio, 2);
+                    cell += " (" + (i == vdb ? "**" + text + "**" : text) + ")";
+                }
+                cells.push_back(cell);
+            }
+            if (ratios && range && vdb < f.size())
+                range->add(f[vdb] / f[0]);
+            if (ratios && twinRange && twin < f.size())
+                twinRange->add(f[twin] / f[0]);
+            return cells;
+        };
+
+        const std::string tableTwo =
+            std::to_string(kProbeCount) + "/" + std::to_string(kTableTwoRunLength);
+        const std::string roundRobin = std::to_string(kProbeCount) + "/1";
+        const std::string random = std::to_string(kLookups);
+        const auto lookupFigures = [&](const std::string& op) {
+            return figures(timesOf(op), nsPerOp);
+        };
+        const Figures cachedTableTwo = lookupFigures("BM_CachedLookup/" + tableTwo);
+        const Figures topDownTableTwo = lookupFigures("BM_TopDownLookup/" + tableTwo);
+        std::vector<MarkdownRow> lookupRows;
+        const auto addLookup = [&](const std::string& label, const Figures& f) {
+            if (has(f))
+                lookupRows.push_back(row(label, f, 2, true, &lookups, &noise));
+        };
+        addLookup("cached, Table II (`/" + tableTwo + "`)", cachedTableTwo);
+        addLookup("top-down, Table II (`/" + tableTwo + "`)", topDownTableTwo);
+        if (has(cachedTableTwo) && has(topDownTableTwo)) {
+            Figures quotient;
+            for (size_t i = 0; i < libs.size(); ++i)
+                quotient.push_back(topDownTableTwo[i] / cachedTableTwo[i]);
+            lookupRows.push_back(row("top-down / cached", quotient, 1, false, nullptr, nullptr));
+        }
+        addLookup("cached, round-robin (`/" + roundRobin + "`)",
+                  lookupFigures("BM_CachedLookup/" + roundRobin));
+        addLookup("top-down, round-robin (`/" + roundRobin + "`)",
+                  lookupFigures("BM_TopDownLookup/" + roundRobin));
+        addLookup("cached, 10^7 random voxels", lookupFigures("BM_CachedRandomLookup/" + random));
+        addLookup("top-down, 10^7 random voxels",
+                  lookupFigures("BM_TopDownRandomLookup/" + random));
+
+        std::vector<MarkdownRow> otherRows;
+        const auto addTimed = [&](const std::string& label, const std::string& op,
+                                  vdb::bench::RatioRange& range) {
+            const Figures f = figures(timesOf(op), nsPerOp);
+            if (has(f))
+                otherRows.push_back(row(label, f, 2, true, &range, &noise));
+        };
+        addTimed("sequential, value iterator", "BM_ValueIteration", sequential);
+        addTimed("sequential, leaves + value mask", "BM_LeafIteration", sequential);
+        addTimed("random insertion, accessor", "BM_RandomInsert", insertion);
+        addTimed("random insertion, top-down", "BM_RandomInsertTopDown", insertion);
+        // Memory comes from the single run of BM_MemUsage.
+        const ByLib* memoryRun = nullptr;
+        if (const auto run = mResults.find("run"); run != mResults.end())
+            if (const auto op = run->second.find("BM_MemUsage"); op != run->second.end())
+                memoryRun = &op->second;
+        const auto memoryFigures = [&](const char* name) {
+            return figures(memoryRun, [name](const Result& r) {
+                const double v = counter(r, name);
+                return v >= 0 ? v : kMissing;
+            });
+        };
+        if (const Figures f = memoryFigures("memUsage_MB"); has(f))
+            otherRows.push_back(row("`memUsage()`", f, 2, true, &memory, nullptr));
+        if (const Figures f = memoryFigures("rss_MB"); has(f))
+            otherRows.push_back(row("RSS growth while building", f, 2, true, nullptr, nullptr));
+        if (const Figures f = memoryFigures("B/voxel"); has(f))
+            otherRows.push_back(
+                row("bytes per active voxel (`memUsage`)", f, 2, false, nullptr, nullptr));
+
+        const std::string protocol =
+            mRepetitions > 1 ? "median of " + std::to_string(mRepetitions) + " repetitions"
+                             : "single runs";
+        const double wait = worstWait();
+        char note[256];
+        if (wait > 1.05)
+            std::snprintf(note, sizeof note,
+                          "Wall-clock time exceeded CPU time by up to %.0f%% in this run: other "
+                          "processes competed for the CPU; read the OpenVdbTwin column (the "
+                          "noise floor) first.",
+                          100.0 * (wait - 1.0));
+        else
+            std::snprintf(note, sizeof note,
+                          "Wall-clock time was within 5%% of CPU time for every result.");
+        if (!lookupRows.empty()) {
+            md.paragraph("## Table II: random lookup");
+            md.paragraph("CPU nanoseconds per lookup (" + protocol +
+                         "); in brackets the ratio to OpenVdb, in bold for Vdb. " + note);
+            MarkdownRow header{"Lookup"};
+            header.insert(header.end(), headers.begin(), headers.end());
+            md.table(header, lookupRows);
+        }
+        if (!otherRows.empty()) {
+            md.paragraph("## Other operations");
+            md.paragraph("CPU nanoseconds per voxel (" + protocol +
+                         "), memory in MiB (one run); in brackets the ratio to OpenVdb.");
+            MarkdownRow header{"Operation"};
+            header.insert(header.end(), libs.begin(), libs.end());
+            md.table(header, otherRows);
+        }
+
+        // The overview names only what ran (a --benchmark_filter run leaves some out).
+        std::string ranges;
+        for (const auto& [name, range] :
+             {std::pair{"lookups", &lookups}, std::pair{"sequential", &sequential},
+              std::pair{"insertion", &insertion}, std::pair{"memory", &memory}})
+            if (!range->empty())
+                ranges += (ranges.empty() ? "" : ", ") + range->status(name);
+        if (!ranges.empty())
+            md.status(ranges);
+        if (!noise.empty())
+            md.status(noise.status("OpenVdbTwin noise"));
     }
 
 private:
     using ByLib = std::map<std::string, Result>;
     using ByOp = std::map<std::string, ByLib>;
+    using MarkdownRow = vdb::bench::MarkdownReport::Row;
+
+    static constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
+
+    /// The results of `op` per library: the medians over the repetitions, or the single runs
+    /// where there was one repetition; null when `op` did not run.
+    const ByLib* timesOf(const std::string& op) const {
+        for (const char* stat : {"median", "run"}) {
+            const auto found = mResults.find(stat);
+            if (found == mResults.end())
+                continue;
+            const auto byOp = found->second.find(op);
+            if (byOp != found->second.end())
+                return &byOp->second;
+        }
+        return nullptr;
+    }
+
+    /// The largest wall-clock / CPU time of any result, at least 1.
+    double worstWait() const {
+        double wait = 1.0;
+        for (const auto& [stat, byOp] : mResults)
+            for (const auto& [op, byLib] : byOp)
+                for (const auto& [lib, r] : byLib)
+                    if (r.cpuNs > 0)
+                        wait = std::max(wait, r.realNs / r.cpuNs);
+        return wait;
+    }
 
     // Prints the times of `times`, and the memory rows of `singles` unless it is null.
     static void printTable(const std::vector<std::string>& rows, const ByOp& times,
@@ -610,6 +801,7 @@ private:
 
     std::map<std::string, ByOp> mResults;  // statistic -> operation -> library
     std::vector<std::string> mRows;
+    int64_t mRepetitions = 0;  // the most repetitions of any kept result
 };
 
 // Prints the statistics of the shared tree of `Lib` if it was built; returns false when that
@@ -628,17 +820,73 @@ bool printTreeStats() {
     return shared.error.empty();
 }
 
+/// The node counts of one library's shared tree, for the report.
+struct TreeShape {
+    std::string name;
+    uint64_t leaves = 0, internal = 0;
+};
+
+// Appends the shape of the shared tree of `Lib` to `shapes` if that tree was built.
+template <typename Lib>
+void addTreeShape(std::vector<TreeShape>& shapes) {
+    if (!sharedTreeBuilt<Lib>)
+        return;
+    const auto& tree = *sharedTree<Lib>().tree;
+    shapes.push_back({Lib::kName, uint64_t(tree.leafCount()), uint64_t(tree.nonLeafCount())});
+}
+
+/// "Band of N active voxels at R^3; ..." with the node counts of the trees that the lookups
+/// read: once when all trees agree, per library otherwise.
+std::string bandParagraph() {
+    using vdb::bench::fmt;
+    std::string text = "Band of " + fmt(double(inputs().band.size()), 0) + " active voxels at " +
+                       std::to_string(kResolution) + "^3";
+    std::vector<TreeShape> shapes;
+    forEachLibrary([&](auto lib) { addTreeShape<typename decltype(lib)::type>(shapes); });
+    if (shapes.empty())
+        return text + ".";
+    const auto nodes = [](const TreeShape& s) {
+        return fmt(double(s.leaves), 0) + " leaves and " + fmt(double(s.internal), 0) +
+               " internal nodes";
+    };
+    const bool same = std::all_of(shapes.begin(), shapes.end(), [&](const TreeShape& s) {
+        return s.leaves == shapes[0].leaves && s.internal == shapes[0].internal;
+    });
+    if (same)
+        return text + "; every tree that the lookups and iterations read has " + nodes(shapes[0]) +
+               ".";
+    text += "; the trees that the lookups and iterations read have";
+    for (size_t i = 0; i < shapes.size(); ++i)
+        text += (i ? ", " : " ") + shapes[i].name + " " + nodes(shapes[i]);
+    return text + ".";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     // Defaults: 5 repetitions, run in random order so that drifting machine load spreads over
     // all libraries, with only their aggregates on screen. Flags given on the command line come
-    // later and win.
-    std::vector<char*> args(argv, argv + argc);
+    // later and win. --markdown FILE is this program's own option, which Google Benchmark
+    // would reject as unrecognized.
     std::string repetitions = "--benchmark_repetitions=5";
     std::string interleave = "--benchmark_enable_random_interleaving=true";
     std::string aggregates = "--benchmark_display_aggregates_only=true";
-    args.insert(args.begin() + 1, {repetitions.data(), interleave.data(), aggregates.data()});
+    std::vector<char*> args{argv[0], repetitions.data(), interleave.data(), aggregates.data()};
+    std::string markdownPath;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg == "--markdown") {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "missing file name after --markdown\n");
+                return 2;
+            }
+            markdownPath = argv[++i];
+        } else if (arg.rfind("--markdown=", 0) == 0) {
+            markdownPath = arg.substr(std::string("--markdown=").size());
+        } else {
+            args.push_back(argv[i]);
+        }
+    }
     int count = int(args.size());
     args.push_back(nullptr);
     benchmark::Initialize(&count, args.data());
@@ -659,5 +907,13 @@ int main(int argc, char** argv) {
     bool ok = true;
     forEachLibrary([&](auto lib) { ok &= printTreeStats<typename decltype(lib)::type>(); });
     benchmark::Shutdown();
+    if (!markdownPath.empty()) {
+        vdb::bench::MarkdownReport md;
+        md.paragraph(bandParagraph());
+        reporter.addMarkdown(md);
+        if (!ok)
+            md.status("a tree failed its check");
+        ok &= md.write(markdownPath);
+    }
     return ok ? 0 : 1;
 }
