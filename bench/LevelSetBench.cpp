@@ -22,13 +22,17 @@
 //
 // --enright RES also runs the whole Enright test (one full period, t = 0 to 3) at RES^3 in both
 // libraries with the same schemes and reports the volume loss, each library's final grid
-// measured by the same smeared-Heaviside volume (vdb::tools::levelSetVolume).
+// measured by the same smeared-Heaviside volume (vdb::tools::levelSetVolume). With
+// --enright-frames N it runs the test a second time in N equal intervals (one advect call per
+// interval, as a caller writing N frames would): OpenVDB sizes each step by the speed at its
+// start and keeps that velocity for the whole step, so where Enright's field vanishes
+// (t = 1.5) it takes a few long steps; intervals bound every step of both libraries alike.
 //
 // With --markdown FILE the program also writes its results as Markdown tables to FILE and one
 // overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
 //
 // Usage: vdb_bench_levelset [--res 256,512,1024] [--reps 3] [--threads 1,all] [--enright 0]
-//                           [--markdown FILE]
+//                           [--enright-frames 0] [--markdown FILE]
 
 #include <vdb/tools/EnrightTest.h>
 #include <vdb/tools/LevelSetAdvect.h>
@@ -197,11 +201,14 @@ double maxDifference(const vdb::FloatGrid& a, const vdb::FloatGrid& b) {
 /// The full-period Enright test in one library: returns the final grid (this library's view),
 /// the steps and the seconds.
 template <typename Lib>
-vdb::FloatGrid::Ptr fullPeriod(const typename Lib::GridType& input, size_t& steps,
+vdb::FloatGrid::Ptr fullPeriod(const typename Lib::GridType& input, int intervals, size_t& steps,
                                double& seconds) {
     auto grid = Lib::copy(input);
+    const double period = vdb::tools::EnrightField<float>::PERIOD;
     const auto start = Clock::now();
-    steps = Lib::advect(*grid, 0.0, vdb::tools::EnrightField<float>::PERIOD);
+    steps = 0;
+    for (int i = 0; i < intervals; ++i)
+        steps += Lib::advect(*grid, period * i / intervals, period * (i + 1) / intervals);
     seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if constexpr (std::is_same_v<Lib, Vdb>) {
         return grid;
@@ -215,7 +222,7 @@ using vdb::bench::splitList;
 [[noreturn]] void usage(const std::string& message) {
     std::fprintf(stderr,
                  "%s\nusage: vdb_bench_levelset [--res 256,512,1024] [--reps 3] "
-                 "[--threads 1,all] [--enright 0] [--markdown FILE]\n",
+                 "[--threads 1,all] [--enright 0] [--enright-frames 0] [--markdown FILE]\n",
                  message.c_str());
     std::exit(2);
 }
@@ -277,7 +284,7 @@ struct Agreement {
 int main(int argc, char** argv) {
     std::vector<int> resolutions{256, 512, 1024};
     std::vector<std::string> threads{"1", "all"};
-    int reps = 3, enright = 0;
+    int reps = 3, enright = 0, enrightFrames = 0;
     std::string markdownPath;
     for (int i = 1; i < argc; i += 2) {
         const std::string arg = argv[i];
@@ -294,6 +301,8 @@ int main(int argc, char** argv) {
             threads = splitList(value);
         } else if (arg == "--enright") {
             enright = positive(value);
+        } else if (arg == "--enright-frames") {
+            enrightFrames = positive(value);
         } else if (arg == "--markdown") {
             markdownPath = value;
         } else {
@@ -372,37 +381,51 @@ int main(int argc, char** argv) {
         const auto ours = Vdb::build(band, enright);
         const auto theirs = OpenVdb::build(band, enright);
         const double v0 = vdb::tools::levelSetVolume(*ours);
-        size_t stepsA = 0, stepsB = 0;
-        double secA = 0, secB = 0;
-        const auto a = fullPeriod<Vdb>(*ours, stepsA, secA);
-        const auto b = fullPeriod<OpenVdb>(*theirs, stepsB, secB);
-        const double va = vdb::tools::levelSetVolume(*a), vb = vdb::tools::levelSetVolume(*b);
         std::printf("# Enright test, full period at %d^3, %d threads, initial volume %.6g\n",
                     enright, cores, v0);
-        std::printf("%-8s %6s %9s %12s %10s\n", "library", "steps", "seconds", "volume", "loss %");
-        std::printf("%-8s %6zu %9.1f %12.6g %10.3f\n", "vdb", stepsA, secA, va,
-                    100.0 * (v0 - va) / v0);
-        std::printf("%-8s %6zu %9.1f %12.6g %10.3f\n", "openvdb", stepsB, secB, vb,
-                    100.0 * (v0 - vb) / v0);
-
-        const double lossA = 100.0 * (v0 - va) / v0, lossB = 100.0 * (v0 - vb) / v0;
+        std::printf("%-8s %9s %6s %9s %12s %10s\n", "library", "intervals", "steps", "seconds",
+                    "volume", "loss %");
+        using Row = vdb::bench::MarkdownReport::Row;
+        std::vector<Row> rows;
+        std::string status;
+        std::vector<int> intervalCounts{1};
+        if (enrightFrames > 1)
+            intervalCounts.push_back(enrightFrames);
+        for (const int intervals : intervalCounts) {
+            size_t stepsA = 0, stepsB = 0;
+            double secA = 0, secB = 0;
+            const auto a = fullPeriod<Vdb>(*ours, intervals, stepsA, secA);
+            const auto b = fullPeriod<OpenVdb>(*theirs, intervals, stepsB, secB);
+            const double va = vdb::tools::levelSetVolume(*a);
+            const double vb = vdb::tools::levelSetVolume(*b);
+            const double lossA = 100.0 * (v0 - va) / v0, lossB = 100.0 * (v0 - vb) / v0;
+            std::printf("%-8s %9d %6zu %9.1f %12.6g %10.3f\n", "vdb", intervals, stepsA, secA, va,
+                        lossA);
+            std::printf("%-8s %9d %6zu %9.1f %12.6g %10.3f\n", "openvdb", intervals, stepsB, secB,
+                        vb, lossB);
+            const auto row = [&](const char* library, size_t steps, double seconds, double v,
+                                 double loss) {
+                char text[32];
+                std::snprintf(text, sizeof text, "%.6g", v);
+                return Row{library, fmt(double(intervals), 0), fmt(loss, 2) + "%",
+                           text,    fmt(double(steps), 0),     fmt(seconds, 1)};
+            };
+            rows.push_back(row("vdb", stepsA, secA, va, lossA));
+            rows.push_back(row("OpenVDB 10", stepsB, secB, vb, lossB));
+            status += std::string(status.empty() ? "" : ", ") + fmt(lossA, 2) + "% / " +
+                      fmt(lossB, 2) + "%" +
+                      (intervals > 1 ? " in " + std::to_string(intervals) + " intervals" : "");
+        }
         char volume[32];
         std::snprintf(volume, sizeof volume, "%.6g", v0);
         report.paragraph("**Volume loss, full period** (t = 0 to 3) at " + std::to_string(enright) +
                          "^3, " + std::to_string(cores) + " threads, initial volume " + volume +
-                         ":");
-        const auto row = [](const char* library, size_t steps, double seconds, double v,
-                            double loss) {
-            char text[32];
-            std::snprintf(text, sizeof text, "%.6g", v);
-            return vdb::bench::MarkdownReport::Row{library, fmt(loss, 2) + "%", text,
-                                                   fmt(double(steps), 0), fmt(seconds, 1)};
-        };
-        report.table(
-            {"library", "volume loss after t = 3", "final volume", "steps", "time (s)"},
-            {row("vdb", stepsA, secA, va, lossA), row("OpenVDB 10", stepsB, secB, vb, lossB)});
-        report.status("Enright " + std::to_string(enright) + "^3 volume loss vdb " + fmt(lossA, 2) +
-                      "% / OpenVDB " + fmt(lossB, 2) + "%");
+                         "; intervals: the number of advect calls that cover the period:");
+        report.table({"library", "intervals", "volume loss after t = 3", "final volume", "steps",
+                      "time (s)"},
+                     rows);
+        report.status("Enright " + std::to_string(enright) + "^3 volume loss vdb / OpenVDB " +
+                      status);
     }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
     if (!markdownPath.empty() && !report.write(markdownPath))

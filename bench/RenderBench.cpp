@@ -38,7 +38,7 @@
 // of the sphere and the torus) and DIR/fog.vdb (a fog volume made from it), which
 // scripts/render-docs renders with `vdb render` into the pictures of docs/.
 //
-// Usage: vdb_bench_render [--res 1024] [--size 1024x1024] [--reps 5]
+// Usage: vdb_bench_render [--res 512,1024] [--size 1024x1024] [--reps 5]
 //                         [--scenes sphere,torus,wuson] [--threads 1,all] [--markdown FILE]
 //                         [--write-scenes DIR]
 
@@ -422,7 +422,7 @@ int writeScenes(const std::string& dir) {
 
 [[noreturn]] void usage(const char* message) {
     std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_render [--res 1024] [--size 1024x1024] [--reps 5] "
+                 "%s\nusage: vdb_bench_render [--res 512,1024] [--size 1024x1024] [--reps 5] "
                  "[--scenes sphere,torus,wuson] [--threads 1,all] [--markdown FILE] "
                  "[--write-scenes DIR]\n",
                  message);
@@ -439,7 +439,8 @@ int parsePositive(const std::string& s, const char* what) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int res = 1024, reps = 5;
+    std::vector<int> resolutions{1024};
+    int reps = 5;
     size_t width = 1024, height = 1024;
     std::vector<std::string> scenes{"sphere", "torus", "wuson"}, threads{"1", "all"};
     std::string scenesDir, markdownPath;
@@ -449,7 +450,11 @@ int main(int argc, char** argv) {
             usage(("missing value after " + arg).c_str());
         const std::string value = argv[++i];
         if (arg == "--res") {
-            res = parsePositive(value, "resolution");
+            resolutions.clear();
+            for (const std::string& r : vdb::bench::splitList(value))
+                resolutions.push_back(parsePositive(r, "resolution"));
+            if (resolutions.empty())
+                usage("--res needs at least one resolution");
         } else if (arg == "--reps") {
             reps = parsePositive(value, "repetition count");
         } else if (arg == "--size") {
@@ -481,10 +486,13 @@ int main(int argc, char** argv) {
 
     openvdb::initialize();
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    std::string resText;
+    for (const int r : resolutions)
+        resText += (resText.empty() ? "" : ", ") + std::to_string(r);
     std::printf(
         "# vdb_bench_render: level set rays (hit point and normal), %zux%zu rays, "
-        "resolution %d, medians of %d passes; ratio = vdb / openvdb in rays/s\n",
-        width, height, res, reps);
+        "resolution %s, medians of %d passes; ratio = vdb / openvdb in rays/s\n",
+        width, height, resText.c_str(), reps);
     std::printf("# Mrays/s per wall-clock second, then per CPU second (all threads together)\n");
     std::printf("%-7s %7s %9s %9s %6s %9s %9s %6s  %s\n", "scene", "threads", "vdb", "openvdb",
                 "ratio", "vdb cpu", "ovdb cpu", "ratio",
@@ -501,136 +509,142 @@ int main(int argc, char** argv) {
         return a == b ? fmt(double(a), 0) : fmt(double(a), 0) + " / " + fmt(double(b), 0);
     };
     bool agree = true;
-    for (const std::string& scene : scenes) {
-        Vdb::GridT::Ptr ours;
-        OpenVdb::GridT::Ptr theirs;
-        std::string label = scene;
-        if (scene == "sphere") {
-            ours = Vdb::sphere(res);
-            theirs = OpenVdb::sphere(res);
-        } else if (scene == "torus") {
-            const auto band = makeTorusBand(res);
-            ours = Vdb::fromBand(band, res);
-            theirs = OpenVdb::fromBand(band, res);
-        } else if (scene == "wuson") {
-            const std::string missing = wusonMissing();
-            if (!missing.empty()) {
-                std::printf("# scene wuson skipped: %s\n", missing.c_str());
-                notes.push_back("Scene wuson skipped: " + missing + ".");
-                continue;
-            }
-            size_t triangles = 0;
-            const auto start = Clock::now();
-            try {
-                ours = Vdb::wuson(res, triangles);
-            } catch (const std::exception& e) {
-                std::fprintf(stderr, "%s\n", e.what());
-                return 1;
-            }
-            const auto converted = Clock::now();
-            theirs = OpenVdb::copyOf(*ours);
-            const double convertS = std::chrono::duration<double>(converted - start).count();
-            const double copyS = std::chrono::duration<double>(Clock::now() - converted).count();
-            if (theirs->activeVoxelCount() != ours->activeVoxelCount() ||
-                theirs->tree().leafCount() != ours->tree().leafCount()) {
-                std::fprintf(stderr, "the OpenVDB copy of the wuson level set differs from it\n");
-                return 1;
-            }
-            label = "Wuson.ply";
-            std::printf(
-                "# wuson: Wuson.ply, %zu triangles, voxel size %g, %llu active voxels in "
-                "both grids (conversion %.1f s, copy %.1f s)\n",
-                triangles, ours->voxelSize()[0], (unsigned long long)ours->activeVoxelCount(),
-                convertS, copyS);
-            notes.push_back("Wuson.ply: " + fmt(double(triangles), 0) +
-                            " triangles, converted by this library's meshToVolume (winding-number "
-                            "signs) at bounding resolution " +
-                            std::to_string(res) + ", half width " + fmt(kHalfWidth, 0) + " (" +
-                            fmt(double(ours->activeVoxelCount()), 0) +
-                            " active voxels) and copied into an OpenVDB grid.");
-        } else {
-            usage(("unknown scene " + scene).c_str());
-        }
-        const double voxelSize = ours->voxelSize()[0];
-        const vdb::BBoxd box = ours->transform().indexToWorld(ours->evalActiveVoxelBoundingBox());
-        const auto rays = makeRays(box, width, height);
-        std::vector<Row> intersectionRows, rendererRows;
-        std::string firstHits;
-        for (const std::string& t : threads) {
-            const int n = t == "all" ? cores : parsePositive(t, "thread count");
-            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
-            // The two libraries alternate, pass by pass, so that load from other processes on
-            // the machine falls on both alike.
-            const Vdb::Intersector protoA(*ours);
-            const OpenVdb::Intersector protoB(*theirs);
-            Hits a, b;
-            std::vector<double> wallA, wallB, cpuA, cpuB;
-            for (int r = 0; r < reps; ++r) {
-                const PassTime ta = runPass<Vdb>(protoA, rays, width, a);
-                const PassTime tb = runPass<OpenVdb>(protoB, rays, width, b);
-                wallA.push_back(ta.wall);
-                wallB.push_back(tb.wall);
-                cpuA.push_back(ta.cpu);
-                cpuB.push_back(tb.cpu);
-            }
-            const double sa = median(wallA), sb = median(wallB);
-            const double ca = median(cpuA), cb = median(cpuB);
-            size_t differ = 0;
-            double worst = 0.0;
-            for (size_t p = 0; p < rays.size(); ++p) {
-                if (a.hit[p] != b.hit[p]) {
-                    ++differ;
+    for (const int res : resolutions)
+        for (const std::string& scene : scenes) {
+            Vdb::GridT::Ptr ours;
+            OpenVdb::GridT::Ptr theirs;
+            std::string label = scene;
+            if (scene == "sphere") {
+                ours = Vdb::sphere(res);
+                theirs = OpenVdb::sphere(res);
+            } else if (scene == "torus") {
+                const auto band = makeTorusBand(res);
+                ours = Vdb::fromBand(band, res);
+                theirs = OpenVdb::fromBand(band, res);
+            } else if (scene == "wuson") {
+                const std::string missing = wusonMissing();
+                if (!missing.empty()) {
+                    std::printf("# scene wuson skipped: %s\n", missing.c_str());
+                    notes.push_back("Scene wuson skipped: " + missing + ".");
                     continue;
                 }
-                if (!a.hit[p])
-                    continue;
-                double d2 = 0.0;
-                for (int i = 0; i < 3; ++i)
-                    d2 += std::pow(a.xyz[3 * p + size_t(i)] - b.xyz[3 * p + size_t(i)], 2);
-                worst = std::max(worst, std::sqrt(d2) / voxelSize);
+                size_t triangles = 0;
+                const auto start = Clock::now();
+                try {
+                    ours = Vdb::wuson(res, triangles);
+                } catch (const std::exception& e) {
+                    std::fprintf(stderr, "%s\n", e.what());
+                    return 1;
+                }
+                const auto converted = Clock::now();
+                theirs = OpenVdb::copyOf(*ours);
+                const double convertS = std::chrono::duration<double>(converted - start).count();
+                const double copyS =
+                    std::chrono::duration<double>(Clock::now() - converted).count();
+                if (theirs->activeVoxelCount() != ours->activeVoxelCount() ||
+                    theirs->tree().leafCount() != ours->tree().leafCount()) {
+                    std::fprintf(stderr,
+                                 "the OpenVDB copy of the wuson level set differs from it\n");
+                    return 1;
+                }
+                label = "Wuson.ply";
+                std::printf(
+                    "# wuson: Wuson.ply, %zu triangles, voxel size %g, %llu active voxels in "
+                    "both grids (conversion %.1f s, copy %.1f s)\n",
+                    triangles, ours->voxelSize()[0], (unsigned long long)ours->activeVoxelCount(),
+                    convertS, copyS);
+                notes.push_back(
+                    "Wuson.ply: " + fmt(double(triangles), 0) +
+                    " triangles, converted by this library's meshToVolume (winding-number "
+                    "signs) at bounding resolution " +
+                    std::to_string(res) + ", half width " + fmt(kHalfWidth, 0) + " (" +
+                    fmt(double(ours->activeVoxelCount()), 0) +
+                    " active voxels) and copied into an OpenVDB grid.");
+            } else {
+                usage(("unknown scene " + scene).c_str());
             }
-            // Pixels on the silhouette may differ; more than 0.1% would mean a real difference.
-            agree = agree && differ <= rays.size() / 1000;
-            const double ra = double(rays.size()) / sa / 1e6, rb = double(rays.size()) / sb / 1e6;
-            const double rca = double(rays.size()) / ca / 1e6;
-            const double rcb = double(rays.size()) / cb / 1e6;
-            std::printf("%-7s %7d %9.3f %9.3f %6.2f %9.3f %9.3f %6.2f  %llu vs %llu (%zu, %.3f)\n",
-                        scene.c_str(), n, ra, rb, ra / rb, rca, rcb, rca / rcb,
-                        (unsigned long long)a.count(), (unsigned long long)b.count(), differ,
-                        worst);
-            const RenderRow rr = timeRenderers(*ours, *theirs, box, width, height, reps);
-            const double pa = double(rays.size()) / rr.wallA / 1e6;
-            const double pb = double(rays.size()) / rr.wallB / 1e6;
-            std::printf(
-                "%-7s %7d %9.3f %9.3f %6.2f  (renderers, Mpixels/s; surface pixels %zu "
-                "vs %zu)\n",
-                scene.c_str(), n, pa, pb, pa / pb, rr.hitsA, rr.hitsB);
-            std::fflush(stdout);
+            const double voxelSize = ours->voxelSize()[0];
+            const vdb::BBoxd box =
+                ours->transform().indexToWorld(ours->evalActiveVoxelBoundingBox());
+            const auto rays = makeRays(box, width, height);
+            std::vector<Row> intersectionRows, rendererRows;
+            std::string firstHits;
+            for (const std::string& t : threads) {
+                const int n = t == "all" ? cores : parsePositive(t, "thread count");
+                tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
+                // The two libraries alternate, pass by pass, so that load from other processes on
+                // the machine falls on both alike.
+                const Vdb::Intersector protoA(*ours);
+                const OpenVdb::Intersector protoB(*theirs);
+                Hits a, b;
+                std::vector<double> wallA, wallB, cpuA, cpuB;
+                for (int r = 0; r < reps; ++r) {
+                    const PassTime ta = runPass<Vdb>(protoA, rays, width, a);
+                    const PassTime tb = runPass<OpenVdb>(protoB, rays, width, b);
+                    wallA.push_back(ta.wall);
+                    wallB.push_back(tb.wall);
+                    cpuA.push_back(ta.cpu);
+                    cpuB.push_back(tb.cpu);
+                }
+                const double sa = median(wallA), sb = median(wallB);
+                const double ca = median(cpuA), cb = median(cpuB);
+                size_t differ = 0;
+                double worst = 0.0;
+                for (size_t p = 0; p < rays.size(); ++p) {
+                    if (a.hit[p] != b.hit[p]) {
+                        ++differ;
+                        continue;
+                    }
+                    if (!a.hit[p])
+                        continue;
+                    double d2 = 0.0;
+                    for (int i = 0; i < 3; ++i)
+                        d2 += std::pow(a.xyz[3 * p + size_t(i)] - b.xyz[3 * p + size_t(i)], 2);
+                    worst = std::max(worst, std::sqrt(d2) / voxelSize);
+                }
+                // Pixels on the silhouette may differ; more than 0.1% would mean a real difference.
+                agree = agree && differ <= rays.size() / 1000;
+                const double ra = double(rays.size()) / sa / 1e6,
+                             rb = double(rays.size()) / sb / 1e6;
+                const double rca = double(rays.size()) / ca / 1e6;
+                const double rcb = double(rays.size()) / cb / 1e6;
+                std::printf(
+                    "%-7s %7d %9.3f %9.3f %6.2f %9.3f %9.3f %6.2f  %llu vs %llu (%zu, %.3f)\n",
+                    scene.c_str(), n, ra, rb, ra / rb, rca, rcb, rca / rcb,
+                    (unsigned long long)a.count(), (unsigned long long)b.count(), differ, worst);
+                const RenderRow rr = timeRenderers(*ours, *theirs, box, width, height, reps);
+                const double pa = double(rays.size()) / rr.wallA / 1e6;
+                const double pb = double(rays.size()) / rr.wallB / 1e6;
+                std::printf(
+                    "%-7s %7d %9.3f %9.3f %6.2f  (renderers, Mpixels/s; surface pixels %zu "
+                    "vs %zu)\n",
+                    scene.c_str(), n, pa, pb, pa / pb, rr.hitsA, rr.hitsB);
+                std::fflush(stdout);
 
-            // The report: intersection rows, then renderer rows, the scene named on the first
-            // of each, the hit count only where it changes.
-            const bool first = intersectionRows.empty();
-            const std::string hits = pair(a.count(), b.count());
-            intersectionRows.push_back({first ? label + ", intersection" : "", std::to_string(res),
-                                        std::to_string(n), fmt(ra, 3), fmt(rb, 3),
-                                        ratioCell(ra / rb, kTarget, true), fmt(rca, 3), fmt(rcb, 3),
-                                        ratioCell(rca / rcb, kTarget, true),
-                                        first || hits != firstHits ? hits : ""});
-            if (first)
-                firstHits = hits;
-            rendererRows.push_back({first ? label + ", renderer" : "", std::to_string(res),
-                                    std::to_string(n), fmt(pa, 3), fmt(pb, 3),
-                                    ratioCell(pa / pb, kTarget, true), "", "", "", ""});
-            checks.push_back({label, std::to_string(res), std::to_string(n),
-                              fmt(double(a.count()), 0) + " / " + fmt(double(b.count()), 0),
-                              fmt(double(differ), 0), fmt(worst, 3),
-                              fmt(double(rr.hitsA), 0) + " / " + fmt(double(rr.hitsB), 0)});
-            intersectionRatios.add(ra / rb);
-            rendererRatios.add(pa / pb);
+                // The report: intersection rows, then renderer rows, the scene named on the first
+                // of each, the hit count only where it changes.
+                const bool first = intersectionRows.empty();
+                const std::string hits = pair(a.count(), b.count());
+                intersectionRows.push_back(
+                    {first ? label + ", intersection" : "", std::to_string(res), std::to_string(n),
+                     fmt(ra, 3), fmt(rb, 3), ratioCell(ra / rb, kTarget, true), fmt(rca, 3),
+                     fmt(rcb, 3), ratioCell(rca / rcb, kTarget, true),
+                     first || hits != firstHits ? hits : ""});
+                if (first)
+                    firstHits = hits;
+                rendererRows.push_back({first ? label + ", renderer" : "", std::to_string(res),
+                                        std::to_string(n), fmt(pa, 3), fmt(pb, 3),
+                                        ratioCell(pa / pb, kTarget, true), "", "", "", ""});
+                checks.push_back({label, std::to_string(res), std::to_string(n),
+                                  fmt(double(a.count()), 0) + " / " + fmt(double(b.count()), 0),
+                                  fmt(double(differ), 0), fmt(worst, 3),
+                                  fmt(double(rr.hitsA), 0) + " / " + fmt(double(rr.hitsB), 0)});
+                intersectionRatios.add(ra / rb);
+                rendererRatios.add(pa / pb);
+            }
+            rows.insert(rows.end(), intersectionRows.begin(), intersectionRows.end());
+            rows.insert(rows.end(), rendererRows.begin(), rendererRows.end());
         }
-        rows.insert(rows.end(), intersectionRows.begin(), intersectionRows.end());
-        rows.insert(rows.end(), rendererRows.begin(), rendererRows.end());
-    }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
     if (markdownPath.empty())
         return agree ? 0 : 1;
@@ -638,12 +652,12 @@ int main(int argc, char** argv) {
     vdb::bench::MarkdownReport md;
     char line[512];
     std::snprintf(line, sizeof line,
-                  "%zux%zu rays, resolution %d, medians of %d passes. Intersection rows: million "
+                  "%zux%zu rays, resolution %s, medians of %d passes. Intersection rows: million "
                   "rays per wall-clock second and per CPU second of the process (all threads "
                   "together); renderer rows: million pixels per wall-clock second of whole "
                   "pictures. Ratio = vdb / OpenVDB, in bold where it reaches the target (at "
                   "least %.2f). The machine has %d hardware threads.",
-                  width, height, res, reps, kTarget, cores);
+                  width, height, resText.c_str(), reps, kTarget, cores);
     md.paragraph(line);
     md.table({"scene", "res", "threads", "vdb Mrays/s", "OpenVDB Mrays/s", "ratio",
               "vdb Mrays/CPU s", "OpenVDB Mrays/CPU s", "ratio (CPU)", "hit pixels"},
