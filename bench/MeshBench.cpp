@@ -233,7 +233,8 @@ public:
         }
         rows.push_back(
             {first ? mTool : "", first ? mInput : "", std::to_string(mRes), std::to_string(threads),
-             fmt(ours, 1), fmt(theirs, 1), vdb::bench::ratioCell(ours / theirs, kTarget),
+             fmt(ours, 1), fmt(theirs, 1),
+             vdb::bench::ratioCell(ours / theirs, mTool == "mesh" ? kTarget : 0.0),
              sameActive ? "" : fmt(double(activeOurs), 0) + " / " + fmt(double(activeTheirs), 0)});
     }
 
@@ -343,14 +344,15 @@ int main(int argc, char** argv) {
     vdb::bench::MarkdownReport md;
     char line[256];
     std::snprintf(line, sizeof line,
-                  "Medians of %d runs in milliseconds; ratio = vdb / OpenVDB, in bold where it "
-                  "meets the target (at most %.2f). The machine has %d hardware threads.",
+                  "Medians of %d runs in milliseconds; ratio = vdb / OpenVDB, in bold where a "
+                  "mesh conversion meets its target (at most %.2f; particles have none). The "
+                  "machine has %d hardware threads.",
                   reps, kTarget, cores);
     md.paragraph(line);
     md.table({"tool", "input", "res", "threads", "vdb ms", "OpenVDB ms", "ratio",
               "active voxels vdb / OpenVDB"},
              rows);
     md.status(meshRatios.status("mesh", kTarget));
-    md.status(particleRatios.status("particles", kTarget));
+    md.status(particleRatios.status("particles (no target)"));
     return md.write(markdownPath) ? 0 : 1;
 }
