@@ -140,10 +140,13 @@ using DDATrees = ::testing::Types<tree::HashTree543<float>, tree::MapTree432<flo
                                   tree::FixedTree6545<float>, tree::FixedTree3333<float>>;
 TYPED_TEST_SUITE(HierarchicalDDATest, DDATrees);
 
+// With `merged`, the walker merges runs of equal tiles: a tile span then covers one or more
+// cells, so instead of its cube the value is checked at several points along it.
 template <typename TreeT>
-::testing::AssertionResult checkWalk(const TreeT& tree, const RayD& ray, double t0, double t1) {
+::testing::AssertionResult checkWalk(const TreeT& tree, const RayD& ray, double t0, double t1,
+                                     bool merged = false, size_t* spanCount = nullptr) {
     using LeafT = typename TreeT::LeafNodeType;
-    HierarchicalDDA<TreeT> hdda(tree);
+    HierarchicalDDA<TreeT> hdda(tree, merged);
     std::vector<typename HierarchicalDDA<TreeT>::Span> spans;
     if (hdda.init(ray, t0, t1)) {
         typename HierarchicalDDA<TreeT>::Span s;
@@ -159,6 +162,8 @@ template <typename TreeT>
         if (i > 0 && s.t0 != spans[i - 1].t1)
             return ::testing::AssertionFailure() << "gap before span " << i;
     }
+    if (spanCount)
+        *spanCount = spans.size();
     // Each span agrees with a top-down lookup at its middle.
     std::set<const LeafT*> visited;
     for (const auto& s : spans) {
@@ -166,6 +171,15 @@ template <typename TreeT>
             visited.insert(s.leaf);
         if (s.t1 - s.t0 < 1e-6)
             continue;
+        if (merged && !s.leaf) {
+            for (double f : {0.01, 0.25, 0.5, 0.75, 0.99}) {
+                const Coord ijk = floorToCoord(ray(s.t0 + f * (s.t1 - s.t0)));
+                if (tree.probeConstLeaf(ijk) || s.value != tree.getValue(ijk) ||
+                    s.active != tree.isValueOn(ijk))
+                    return ::testing::AssertionFailure() << "merged tile span wrong at " << ijk;
+            }
+            continue;
+        }
         const Coord ijk = floorToCoord(ray(0.5 * (s.t0 + s.t1)));
         if (!CoordBBox::createCube(s.origin, Int32(1) << s.log2Dim).isInside(ijk))
             return ::testing::AssertionFailure() << "span cube " << s.origin << " misses " << ijk;
@@ -246,8 +260,17 @@ TYPED_TEST(HierarchicalDDATest, VisitsEveryLeafAndTileTheRayCrosses) {
         const Vec3d aim = t + Vec3d(jitter(rng), jitter(rng), jitter(rng)) - eye;
         rays.emplace_back(RayD(eye, aim.unit()), 2.0 * aim.length());
     }
-    for (const auto& [ray, length] : rays)
-        ASSERT_TRUE(checkWalk(tree, ray, 0.0, length)) << ray;
+    size_t each = 0, merged = 0;
+    for (const auto& [ray, length] : rays) {
+        size_t n = 0, m = 0;
+        ASSERT_TRUE(checkWalk(tree, ray, 0.0, length, false, &n)) << ray;
+        ASSERT_TRUE(checkWalk(tree, ray, 0.0, length, true, &m)) << ray << " (tiles merged)";
+        EXPECT_LE(m, n) << ray;
+        each += n;
+        merged += m;
+    }
+    // The scene's large constant regions are crossed in fewer spans when tiles are merged.
+    EXPECT_LT(merged, each);
 }
 
 TYPED_TEST(HierarchicalDDATest, LeapsOverEmptySpaceInFewSteps) {

@@ -28,9 +28,10 @@
 /// }
 /// @endcode
 ///
-/// Cost: O(1) per span (a cached node-path lookup, as in an accessor, and a slab test against
-/// the span's cube). Threads: a walker is not thread-safe; use one per thread. Any number of
-/// walkers may read one tree concurrently.
+/// Cost: O(1) per span: one step of a uniform DDA at the level that stores the region (three
+/// comparisons and a multiply) and one child-mask test, plus the start of a DDA for each node
+/// entered. Threads: a walker is not thread-safe; use one per thread. Any number of walkers may
+/// read one tree concurrently.
 
 #pragma once
 
@@ -50,6 +51,17 @@
 #include <utility>
 
 namespace vdb::math {
+
+namespace detail {
+
+/// The index of the smallest of three times (the first of equal ones).
+template <typename RealT>
+inline int argMin3(const std::array<RealT, 3>& t) {
+    const int ab = t[1] < t[0] ? 1 : 0;
+    return t[2] < t[ab] ? 2 : ab;
+}
+
+}  // namespace detail
 
 /// Walks, in order, the cells that a ray crosses in the lattice of aligned cubes of 2^Log2Dim
 /// voxels (Amanatides and Woo): cell c covers [c, c + 2^Log2Dim) on each axis, with each
@@ -95,11 +107,7 @@ public:
     RealT maxTime() const { return mMaxTime; }
 
 private:
-    int nextAxis() const {
-        // Index of the smallest of the three boundary times.
-        const int ab = mNext[1] < mNext[0] ? 1 : 0;
-        return mNext[2] < mNext[ab] ? 2 : ab;
-    }
+    int nextAxis() const { return detail::argMin3(mNext); }
 
     Coord mVoxel;
     std::array<Int32, 3> mStep{};
@@ -160,10 +168,14 @@ struct DDASpan {
 ///
 /// next() reports, in ray order, consecutive spans that together cover the walked time range
 /// without gaps: one span for each leaf, tile or empty root region the ray passes through.
-/// Regions are found top-down through a cache of the last node visited at each level (the
-/// accessor's idea), and each span ends where the ray leaves the region's cube, found by a slab
-/// test against that cube alone. Moving to the next region steps across the face through which
-/// the ray left, so the walk always advances, even for rays along faces and edges.
+/// The walk keeps one uniform DDA per level of the tree, over the child cells of the node it
+/// is crossing at that level (the root's entries at the top): a child node is entered by
+/// starting the DDA of the level below at the current time, a cell without a child is
+/// reported as one span, and leaving a node hands the walk back to its parent's DDA, which
+/// steps across the same face. A step is a comparison of three exit times and one multiply, so
+/// an empty cell costs about what a voxel step costs, at whatever level it is stored. Exit
+/// times are computed from the cell faces (not accumulated), so the levels agree exactly on
+/// the time at which the ray crosses a face they share.
 ///
 /// The walk is limited to the tree's extent: the cubes of the root's entries for a root tree
 /// (regions beyond them are background), the fixed domain for a bounded tree.
@@ -180,8 +192,12 @@ public:
     using Span = DDASpan<ValueType, LeafNodeType>;
     static constexpr Index TOP = TopNodeType::LEVEL;
     static constexpr bool IS_ROOT = detail::DDA_IS_ROOT<TopNodeType>;
+    static_assert(TOP >= 1, "a hierarchical DDA needs at least one level above the leaves");
 
-    explicit HierarchicalDDA(const TreeType& tree);
+    /// With `mergeTiles`, consecutive tiles of one internal node that hold the same value and
+    /// state are reported as one span (with the origin and size of the first of them), for
+    /// callers that only look at the values; else each tile is a span of its own.
+    explicit HierarchicalDDA(const TreeType& tree, bool mergeTiles = false);
 
     /// The index-space region the walk is limited to (empty when the tree stores nothing).
     const CoordBBox& bounds() const { return mBounds; }
@@ -193,15 +209,17 @@ public:
 
     /// Fills `span` with the next region along the ray and returns true, or returns false when
     /// the walk is over.
-    bool next(Span& span);
+    bool next(Span& span) {
+        if (mDone)
+            return false;
+        while (!dispatch<TOP>(span)) {
+        }
+        return true;
+    }
 
     /// Continues the current walk from time `t` in voxel `ijk` (where the ray is at time t),
     /// for callers that walked ahead on their own, voxel by voxel; the end time is kept.
-    void restart(double t, const Coord& ijk) {
-        mTime = t;
-        mIjk = ijk;
-        mDone = !(t <= mEnd) || !mBounds.isInside(ijk);
-    }
+    void restart(double t, const Coord& ijk);
 
     /// The end of the clipped time range of the current walk.
     double endTime() const { return mEnd; }
@@ -210,36 +228,64 @@ private:
     template <Index L>
     using NodeAt = typename detail::DDANodeAt<TopNodeType, L>::Type;
     template <typename Seq>
-    struct CacheTuple;
+    struct NodeTuple;
     template <size_t... L>
-    struct CacheTuple<std::index_sequence<L...>> {
+    struct NodeTuple<std::index_sequence<L...>> {
         using Type = std::tuple<const NodeAt<Index(L)>*...>;
     };
-    using Nodes = typename CacheTuple<std::make_index_sequence<TOP>>::Type;
+    // Slot P: the node of level P being crossed (slot 0, a leaf, is unused).
+    using Nodes = typename NodeTuple<std::make_index_sequence<TOP + 1>>::Type;
 
-    template <Index L>
-    bool cached(const Coord& ijk) const {
-        constexpr uint32_t high = ~((uint32_t(1) << NodeAt<L>::TOTAL) - 1);
-        const Coord& key = mKeys[L];
-        return (((uint32_t(ijk[0]) & high) ^ uint32_t(key[0])) |
-                ((uint32_t(ijk[1]) & high) ^ uint32_t(key[1])) |
-                ((uint32_t(ijk[2]) & high) ^ uint32_t(key[2]))) == 0;
+    // Runs the visit of the level being walked; true when it filled `span`, false when it
+    // entered a child node (the walk goes on one level down).
+    template <Index P>
+    bool dispatch(Span& span) {
+        if constexpr (P > 1) {
+            if (mLevel != P)
+                return dispatch<P - 1>(span);
+        }
+        return visit<P>(span);
     }
-    template <Index L>
-    void lookupFrom(const Coord& ijk, Span& span);
-    template <typename NodeT>
-    void descend(const NodeT& node, const Coord& ijk, Span& span);
+    template <Index P>
+    bool visit(Span& span);
+    // Starts the DDA of level P (over the child cells of `node`) at the current time.
+    template <Index P>
+    void enter(const NodeAt<P>& node);
+    // With tile merging: moves the DDA of level P into the next cell across its face on
+    // `axis` when that cell is in the same node and holds a tile equal to `span`'s; else false.
+    template <Index P>
+    bool extendTile(int axis, const Span& span);
+    // Moves the DDA of level P to the next cell across its face on `axis`, climbing to the
+    // parent when the ray leaves the node.
+    template <Index P>
+    void advance(int axis);
+    // (Re)starts the DDA of level P in the cell holding voxel `ijk`.
+    template <Index P>
+    void startAt(const Coord& ijk);
+    template <Index P>
+    void restartAt(const Coord& ijk);
+    // The time the ray leaves a cell whose lower corner on `axis` is c and whose edge is dim.
+    double exitTime(int axis, Int64 c, Int64 dim) const {
+        return (double(c) + mFar[axis] * double(dim) - mEye[axis]) * mInvDirFinite[axis] +
+               mBias[axis];
+    }
 
     const TreeType* mTree;
+    bool mMergeTiles;
     CoordBBox mBounds;
-    std::array<Coord, TOP> mKeys;
     Nodes mNodes{};
-    // The current walk: the ray, the voxel where the next span starts, its time, the end.
+    // Per level P: the origin of the node being crossed, the origin of the child cell the ray
+    // is in, and the times the ray leaves that cell through its far face on each axis.
+    std::array<Coord, TOP + 1> mOrigin{}, mCell{};
+    std::array<std::array<double, 3>, TOP + 1> mExit{};
+    Index mLevel = TOP;
+    // The current walk: the ray, the time where the next span starts, the end.
     Vec3d mEye, mDir;
     // Per axis: 1 when the ray moves up (it leaves a cube through its upper face), else 0; the
     // reciprocal direction, 0 where the ray does not move; +infinity there, else 0.
     Vec3d mFar, mInvDirFinite, mBias;
-    Coord mIjk;
+    std::array<Int64, 3> mStep{};     // +1 or -1: the direction the ray moves along each axis
+    std::array<double, 3> mInvAbs{};  // |1 / direction| (0 where the ray does not move)
     double mTime = 0, mEnd = 0;
     bool mDone = true;
 };
@@ -275,8 +321,8 @@ void DDA<RealT, Log2Dim>::init(const Ray<RealT>& ray, RealT startTime, RealT max
 }
 
 template <typename TreeT>
-HierarchicalDDA<TreeT>::HierarchicalDDA(const TreeType& tree) : mTree(&tree) {
-    mKeys.fill(Coord::max());  // low bits set: never the key of a node
+HierarchicalDDA<TreeT>::HierarchicalDDA(const TreeType& tree, bool mergeTiles)
+    : mTree(&tree), mMergeTiles(mergeTiles) {
     if constexpr (IS_ROOT) {
         using ChildT = typename TopNodeType::ChildNodeType;
         const TopNodeType& root = tree.topNode();
@@ -284,6 +330,8 @@ HierarchicalDDA<TreeT>::HierarchicalDDA(const TreeType& tree) : mTree(&tree) {
             mBounds.expand(CoordBBox::createCube(root.key(c), Int32(ChildT::DIM)));
     } else {
         mBounds = TreeType::domain();
+        std::get<TOP>(mNodes) = &tree.topNode();
+        mOrigin[TOP] = tree.topNode().origin();
     }
 }
 
@@ -305,116 +353,176 @@ bool HierarchicalDDA<TreeT>::init(const Ray<double>& ray, double t0, double t1) 
         mFar[i] = mDir[i] > 0.0 ? 1.0 : 0.0;
         mInvDirFinite[i] = moving ? ray.invDir()[i] : 0.0;
         mBias[i] = moving ? 0.0 : std::numeric_limits<double>::infinity();
+        mStep[i] = mDir[i] > 0.0 ? 1 : -1;
+        mInvAbs[i] = moving ? std::abs(ray.invDir()[i]) : 0.0;
     }
     mTime = t0;
     mEnd = t1;
     const Vec3d p = ray(mTime);
+    Coord ijk;
     for (int i = 0; i < 3; ++i) {
         // Rounding may put the entry point just outside the box.
-        mIjk[i] = detail::floorClamped(p[i], mBounds.min()[i], mBounds.max()[i]);
+        ijk[i] = detail::floorClamped(p[i], mBounds.min()[i], mBounds.max()[i]);
     }
     mDone = false;
+    startAt<TOP>(ijk);
     return true;
 }
 
 template <typename TreeT>
-bool HierarchicalDDA<TreeT>::next(Span& span) {
-    if (mDone)
-        return false;
-    lookupFrom<0>(mIjk, span);
-    const Int64 dim = Int64(1) << span.log2Dim;
-    span.origin = mIjk.alignedDown(span.log2Dim);
-
-    // Exit time of the region's cube: the earliest of the three far faces (axes the ray does
-    // not move along give +infinity through mBias), chosen without branches.
-    double t[3];
-    for (int i = 0; i < 3; ++i) {
-        const double face = double(span.origin[i]) + mFar[i] * double(dim);
-        t[i] = (face - mEye[i]) * mInvDirFinite[i] + mBias[i];
-    }
-    int axis = t[1] < t[0] ? 1 : 0;
-    axis = t[2] < t[axis] ? 2 : axis;
-    const double exitTime = t[axis];
-    span.t0 = mTime;
-    if (!(exitTime < mEnd)) {
-        span.t1 = mEnd;
-        mDone = true;
-        return true;
-    }
-    span.t1 = exitTime > mTime ? exitTime : mTime;
-
-    // Step across the exit face; the other two components come from the exit point, kept
-    // inside the region's cube so that rounding cannot move them backwards.
-    const Vec3d p = mEye + mDir * span.t1;
-    Int64 c[3];
-    for (int i = 0; i < 3; ++i) {
-        const Int64 lo = span.origin[i];
-        c[i] = detail::floorClamped(p[i], Int32(lo), Int32(lo + dim - 1));
-    }
-    c[axis] = mDir[axis] > 0.0 ? Int64(span.origin[axis]) + dim : Int64(span.origin[axis]) - 1;
-    if ((c[axis] < mBounds.min()[axis]) | (c[axis] > mBounds.max()[axis])) {
-        mDone = true;  // the walk leaves the tree's extent
-        return true;
-    }
-    mIjk = Coord(Int32(c[0]), Int32(c[1]), Int32(c[2]));
-    mTime = span.t1;
-    return true;
+void HierarchicalDDA<TreeT>::restart(double t, const Coord& ijk) {
+    mTime = t;
+    mDone = !(t <= mEnd) || !mBounds.isInside(ijk);
+    if (!mDone)
+        restartAt<1>(ijk);
 }
 
 template <typename TreeT>
-template <Index L>
-void HierarchicalDDA<TreeT>::lookupFrom(const Coord& ijk, Span& span) {
-    if constexpr (L == TOP) {
-        const TopNodeType& top = mTree->topNode();
-        if constexpr (IS_ROOT) {
-            using ChildT = typename TopNodeType::ChildNodeType;
-            const auto* entry = top.findEntry(TopNodeType::coordToKey(ijk));
-            if (entry && entry->child) {
-                std::get<TOP - 1>(mNodes) = entry->child;
-                mKeys[TOP - 1] = ijk.alignedDown(ChildT::TOTAL);
-                descend(*entry->child, ijk, span);
-                return;
-            }
-            span.leaf = nullptr;
-            span.level = TOP;
-            span.log2Dim = ChildT::TOTAL;
-            span.value = entry ? entry->tile : top.background();
+template <Index P>
+void HierarchicalDDA<TreeT>::restartAt(const Coord& ijk) {
+    // Climb from the level being walked to the lowest node that holds ijk.
+    if constexpr (P < TOP) {
+        if (mLevel > P)
+            return restartAt<P + 1>(ijk);
+        constexpr uint32_t DIM = NodeAt<P>::DIM;
+        const Coord& o = mOrigin[P];
+        if (uint32_t(ijk[0] - o[0]) >= DIM || uint32_t(ijk[1] - o[1]) >= DIM ||
+            uint32_t(ijk[2] - o[2]) >= DIM) {
+            mLevel = P + 1;
+            return restartAt<P + 1>(ijk);
+        }
+    }
+    startAt<P>(ijk);
+}
+
+template <typename TreeT>
+template <Index P>
+void HierarchicalDDA<TreeT>::startAt(const Coord& ijk) {
+    constexpr Index LOG2 = NodeAt<P>::ChildNodeType::TOTAL;
+    mLevel = P;
+    mCell[P] = ijk.alignedDown(LOG2);
+    for (int i = 0; i < 3; ++i)
+        mExit[P][i] = exitTime(i, mCell[P][i], Int64(1) << LOG2);
+}
+
+template <typename TreeT>
+template <Index P>
+void HierarchicalDDA<TreeT>::enter(const NodeAt<P>& node) {
+    constexpr Int32 DIM = Int32(NodeAt<P>::DIM);
+    std::get<P>(mNodes) = &node;
+    const Coord& o = mOrigin[P] = node.origin();
+    // Where the ray is now, kept inside the node's cube so that rounding cannot move it out.
+    const Vec3d p = mEye + mDir * mTime;
+    Coord ijk;
+    for (int i = 0; i < 3; ++i)
+        ijk[i] = detail::floorClamped(p[i], o[i], o[i] + (DIM - 1));
+    startAt<P>(ijk);
+}
+
+template <typename TreeT>
+template <Index P>
+bool HierarchicalDDA<TreeT>::visit(Span& span) {
+    using NodeT = NodeAt<P>;
+    using ChildT = typename NodeT::ChildNodeType;
+    const Coord& cell = mCell[P];
+    const ChildT* child = nullptr;
+    if constexpr (P == TOP && IS_ROOT) {
+        const TopNodeType& root = mTree->topNode();
+        const auto* entry = root.findEntry(cell);
+        if (entry && entry->child) {
+            child = entry->child;
+        } else {
+            span.value = entry ? entry->tile : root.background();
             span.active = entry ? entry->active : false;
-        } else {
-            descend(top, ijk, span);
         }
     } else {
-        if (cached<L>(ijk)) {
-            descend(*std::get<L>(mNodes), ijk, span);
-        } else {
-            lookupFrom<L + 1>(ijk, span);
+        const NodeT& node = *std::get<P>(mNodes);
+        const Index n = NodeT::coordToOffset(cell);
+        child = node.getChild(n);
+        if (!child) {
+            span.value = node.getTileValue(n);
+            span.active = node.isTileOn(n);
         }
+    }
+    if (child) {
+        if constexpr (ChildT::LEVEL > 0) {
+            enter<ChildT::LEVEL>(*child);
+            return false;
+        } else {
+            span.leaf = child;
+            span.level = 0;
+            span.active = false;
+        }
+    } else {
+        span.leaf = nullptr;
+        span.level = P;
+    }
+    span.origin = cell;
+    span.log2Dim = ChildT::TOTAL;
+    span.t0 = mTime;
+    for (;;) {
+        // The cell's exit: the earliest of its three far faces (axes the ray does not move
+        // along are at +infinity).
+        const std::array<double, 3>& t = mExit[P];
+        const int axis = detail::argMin3(t);
+        if (!(t[axis] < mEnd)) {
+            span.t1 = mEnd;
+            mDone = true;
+            return true;
+        }
+        span.t1 = t[axis] > mTime ? t[axis] : mTime;
+        mTime = span.t1;
+        if constexpr (!(P == TOP && IS_ROOT)) {
+            if (mMergeTiles && !child && extendTile<P>(axis, span))
+                continue;
+        }
+        advance<P>(axis);
+        return true;
     }
 }
 
 template <typename TreeT>
-template <typename NodeT>
-void HierarchicalDDA<TreeT>::descend(const NodeT& node, const Coord& ijk, Span& span) {
-    if constexpr (NodeT::LEVEL == 0) {
-        span.leaf = &node;
-        span.level = 0;
-        span.log2Dim = NodeT::TOTAL;
-        span.active = false;
-    } else {
-        using ChildT = typename NodeT::ChildNodeType;
-        const Index n = NodeT::coordToOffset(ijk);
-        if (const ChildT* child = node.getChild(n)) {
-            std::get<ChildT::LEVEL>(mNodes) = child;
-            mKeys[ChildT::LEVEL] = ijk.alignedDown(ChildT::TOTAL);
-            descend(*child, ijk, span);
+template <Index P>
+bool HierarchicalDDA<TreeT>::extendTile(int axis, const Span& span) {
+    using NodeT = NodeAt<P>;
+    constexpr Int64 D = Int64(1) << NodeT::ChildNodeType::TOTAL;
+    const Int64 c = Int64(mCell[P][axis]) + (mFar[axis] != 0.0 ? D : -D);
+    const Int64 o = mOrigin[P][axis];
+    if ((c < o) | (c >= o + Int64(NodeT::DIM)))
+        return false;
+    Coord cell = mCell[P];
+    cell[axis] = Int32(c);
+    const NodeT& node = *std::get<P>(mNodes);
+    const Index n = NodeT::coordToOffset(cell);
+    if (node.getChildMask().isOn(n) || !(node.getTileValue(n) == span.value) ||
+        node.isTileOn(n) != span.active)
+        return false;
+    mCell[P][axis] = Int32(c);
+    mExit[P][axis] += double(D) * mInvAbs[axis];
+    return true;
+}
+
+template <typename TreeT>
+template <Index P>
+void HierarchicalDDA<TreeT>::advance(int axis) {
+    constexpr Int64 D = Int64(1) << NodeAt<P>::ChildNodeType::TOTAL;
+    const Int64 c = Int64(mCell[P][axis]) + (mFar[axis] != 0.0 ? D : -D);
+    if constexpr (P == TOP) {
+        if ((c < mBounds.min()[axis]) | (c > mBounds.max()[axis])) {
+            mDone = true;  // the walk leaves the tree's extent
             return;
         }
-        span.leaf = nullptr;
-        span.level = NodeT::LEVEL;
-        span.log2Dim = ChildT::TOTAL;
-        span.value = node.getTileValue(n);
-        span.active = node.isTileOn(n);
+    } else {
+        const Int64 o = mOrigin[P][axis];
+        if ((c < o) | (c >= o + Int64(NodeAt<P>::DIM))) {
+            // The ray leaves this node: the parent steps across the same face.
+            mLevel = P + 1;
+            advance<P + 1>(axis);
+            return;
+        }
     }
+    mCell[P][axis] = Int32(c);
+    mExit[P][axis] += double(D) * mInvAbs[axis];
 }
 
 }  // namespace vdb::math

@@ -268,7 +268,7 @@ LevelSetRayIntersector<GridT>::LevelSetRayIntersector(const GridT& grid, ValueTy
       mFar(2.0 * grid.voxelSize()[0]),
       mBBox(detail::paddedActiveBBox(grid.tree(), 1.0)),
       mAcc(grid.tree()),
-      mHdda(grid.tree()) {
+      mHdda(grid.tree(), /*mergeTiles=*/true) {
     detail::requireUniformVoxels(grid, "LevelSetRayIntersector");
     if (grid.getGridClass() != GRID_LEVEL_SET)
         throw ValueError("LevelSetRayIntersector: the grid is not a level set");
