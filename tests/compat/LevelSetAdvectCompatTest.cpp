@@ -7,9 +7,9 @@
 // LevelSetAdvectCompatSlowTest.cpp). Renormalisation alone, on a stretched distance, must land
 // on OpenVDB's values.
 //
-// The two implementations differ in details that change values at the level of float
-// round-off or a little above (the WENO regulariser; the velocity of a step, sampled at its
-// middle here and at its start in OpenVDB), so the comparisons use tolerances, not bits.
+// Both use the same WENO regulariser (OpenVDB's); the order of floating-point operations
+// differs, and the velocity of a step is sampled at its middle here and at its start in OpenVDB
+// (the same at t = 0 to first order), so the comparisons use tolerances, not bits.
 
 #include <vdb/Grid.h>
 #include <vdb/tools/EnrightTest.h>
@@ -77,7 +77,7 @@ TEST(LevelSetAdvectCompat, TableThreeStepMatchesOpenVdb) {
     EXPECT_EQ(ours.advect(0.0, 2e-3), 1u);
     EXPECT_EQ(theirs.advect(0.0, 2e-3), 1u);
     const Comparison c = compare(*p.ours, *p.theirs);
-    EXPECT_LT(c.maxDiffVoxels, 0.01);
+    EXPECT_LT(c.maxDiffVoxels, 1e-4);  // measured: 1e-6
     // Voxels whose value sits right at the half width may be trimmed by one and not the other.
     EXPECT_LT(double(c.onlyOurs + c.onlyTheirs), 1e-3 * double(c.both));
 }
@@ -127,9 +127,8 @@ TEST(LevelSetAdvectCompat, RenormalisationOfAStretchedDistanceMatchesOpenVdb) {
 
             const Comparison cmp = compare(*ours, *theirs);
             EXPECT_EQ(cmp.onlyOurs + cmp.onlyTheirs, 0u);
-            // The values moved by up to 0.15 voxel per step; both land on the same ones (the
-            // WENO regularisers differ at round-off level).
-            EXPECT_LT(cmp.maxDiffVoxels, weno ? 1e-3 : 1e-5);
+            // The values moved by up to 0.15 voxel per step; both land on the same ones.
+            EXPECT_LT(cmp.maxDiffVoxels, 1e-5);
         }
     }
 }

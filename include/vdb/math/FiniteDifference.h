@@ -97,26 +97,32 @@ inline std::string_view temporalIntegrationSchemeToString(TemporalIntegrationSch
 
 /// The fifth-order WENO combination of the five consecutive differences v1..v5 (v3 the one
 /// ending at the centre for the backward derivative): three third-order candidates weighted by
-/// their smoothness, with ideal weights 0.1, 0.6 and 0.3. `scale2` is a squared magnitude
-/// typical of the differences; the smoothness regulariser is 1e-6 * scale2 plus a floor whose
+/// their smoothness, with ideal weights 0.1, 0.6 and 0.3.
+///
+/// The smoothness regulariser is OpenVDB's: 1e-6 * scale2, with `scale2` a squared magnitude of
+/// the values in their own units (OpenVDB's default and ours, 0.01, for level sets in world
+/// units), so that schemes built on it give OpenVDB's results. It is kept above a floor whose
 /// fourth power is still a normal number of type T (1e-9 for float, 1e-30 for double), so the
-/// weights stay finite where the differences vanish.
+/// weights stay finite where the differences vanish. The weights are normalised with one
+/// division, in double precision (their products would underflow a float).
 template <typename T>
-inline T weno5(T v1, T v2, T v3, T v4, T v5, T scale2) {
+inline T weno5(T v1, T v2, T v3, T v4, T v5, T scale2 = T(0.01)) {
     const T c13 = T(13) / T(12);
     const T floor = sizeof(T) <= 4 ? T(1.0e-9) : T(1.0e-30);
-    const T eps = T(1.0e-6) * scale2 + floor;
+    const T eps = std::max(T(1.0e-6) * scale2, floor);
     const T a = v1 - T(2) * v2 + v3, b = v1 - T(4) * v2 + T(3) * v3;
     const T c = v2 - T(2) * v3 + v4, d = v2 - v4;
     const T e = v3 - T(2) * v4 + v5, f = T(3) * v3 - T(4) * v4 + v5;
-    const T s1 = c13 * a * a + T(0.25) * b * b + eps;
-    const T s2 = c13 * c * c + T(0.25) * d * d + eps;
-    const T s3 = c13 * e * e + T(0.25) * f * f + eps;
-    const T a1 = T(0.1) / (s1 * s1), a2 = T(0.6) / (s2 * s2), a3 = T(0.3) / (s3 * s3);
+    const double s1 = double(c13 * a * a + T(0.25) * b * b + eps);
+    const double s2 = double(c13 * c * c + T(0.25) * d * d + eps);
+    const double s3 = double(c13 * e * e + T(0.25) * f * f + eps);
+    // alpha_k = ideal_k / s_k^2, normalised: multiplied through by (s1 s2 s3)^2.
+    const double q1 = s1 * s1, q2 = s2 * s2, q3 = s3 * s3;
+    const double w1 = 0.1 * q2 * q3, w2 = 0.6 * q1 * q3, w3 = 0.3 * q1 * q2;
     const T p1 = v1 * (T(2) / T(6)) - v2 * (T(7) / T(6)) + v3 * (T(11) / T(6));
     const T p2 = -v2 * (T(1) / T(6)) + v3 * (T(5) / T(6)) + v4 * (T(2) / T(6));
     const T p3 = v3 * (T(2) / T(6)) + v4 * (T(5) / T(6)) - v5 * (T(1) / T(6));
-    return (a1 * p1 + a2 * p2 + a3 * p3) / (a1 + a2 + a3);
+    return T((w1 * double(p1) + w2 * double(p2) + w3 * double(p3)) / (w1 + w2 + w3));
 }
 
 /// The backward (D-) and forward (D+) index-space derivatives at `line[3]` under `Scheme`.
@@ -138,9 +144,8 @@ inline void biasedDifferences(const T* line, T& dm, T& dp) {
     } else {
         const T d0 = line[1] - line[0], d1 = line[2] - line[1], d2 = line[3] - line[2];
         const T d3 = line[4] - line[3], d4 = line[5] - line[4], d5 = line[6] - line[5];
-        const T scale2 = std::max({d0 * d0, d1 * d1, d2 * d2, d3 * d3, d4 * d4, d5 * d5});
-        dm = weno5(d0, d1, d2, d3, d4, scale2);
-        dp = weno5(d5, d4, d3, d2, d1, scale2);
+        dm = weno5(d0, d1, d2, d3, d4);
+        dp = weno5(d5, d4, d3, d2, d1);
     }
 }
 
