@@ -163,6 +163,18 @@ inline void releaseFreeMemory() {
     malloc_trim(0);
 }
 
+/// Stops glibc from shrinking the heap inside free(): by default, whenever the free block at
+/// the top of the heap grows past a threshold (which glibc also moves as the program frees
+/// large blocks), free() returns it to the OS with brk(), and the next allocations fault the
+/// pages back in. How often that happens during an operation depends on the heap left by
+/// earlier ones, not on the operation. releaseFreeMemory() still returns memory explicitly.
+inline void keepHeapOnFree() {
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    // Setting the trim threshold also stops glibc from raising the size above which blocks
+    // are mapped one by one (and faulted in on every use); set it where glibc would have.
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+}
+
 /// Parses `s` as a whole number in [1, 65536] into `value`; false when it is not one.
 inline bool parsePositive(const std::string& s, int& value) {
     char* end = nullptr;

@@ -20,7 +20,11 @@
 // Each measurement copies the input tree (not timed), times the operation alone, and checks
 // the result against the other library's (active voxel count and leaf count); the median of
 // the repetitions is reported. "1 thread" runs under tbb::global_control with one thread for
-// both libraries; "all" uses every core the machine has.
+// both libraries; "all" uses every core the machine has. The process runs with glibc's
+// trimming of the heap inside free() off (bench::keepHeapOnFree) for both libraries: with it,
+// operations that free many nodes (CSG intersection and difference at 2048^3) took up to 7
+// times longer in a run after the smaller resolutions than alone, from some 18,000 extra brk()
+// calls, depending on the heap that earlier measurements left.
 //
 // With --markdown FILE the program also writes its results as Markdown tables to FILE and one
 // overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
@@ -394,6 +398,7 @@ vdb::bench::MarkdownReport report(const std::vector<Measurement>& measured,
 }  // namespace
 
 int main(int argc, char** argv) {
+    vdb::bench::keepHeapOnFree();
     std::vector<int> resolutions{512, 1024, 2048};
     int reps = 5;
     std::vector<std::string> ops{"dilate", "erode",        "brute",     "floodfill",
