@@ -29,7 +29,7 @@
 /// @endcode
 ///
 /// Cost: O(1) per span: one step of a uniform DDA at the level that stores the region (three
-/// comparisons and a multiply) and one child-mask test, plus the start of a DDA for each node
+/// comparisons and an add) and one child-mask test, plus the start of a DDA for each node
 /// entered. Threads: a walker is not thread-safe; use one per thread. Any number of walkers may
 /// read one tree concurrently.
 
@@ -172,10 +172,11 @@ struct DDASpan {
 /// is crossing at that level (the root's entries at the top): a child node is entered by
 /// starting the DDA of the level below at the current time, a cell without a child is
 /// reported as one span, and leaving a node hands the walk back to its parent's DDA, which
-/// steps across the same face. A step is a comparison of three exit times and one multiply, so
-/// an empty cell costs about what a voxel step costs, at whatever level it is stored. Exit
-/// times are computed from the cell faces (not accumulated), so the levels agree exactly on
-/// the time at which the ray crosses a face they share.
+/// steps across the same face (the parent never picks its own exit axis there, so the levels
+/// cannot disagree about which face was crossed). A step is a comparison of three exit times
+/// and one add, so an empty cell costs about what a voxel step costs, at whatever level it is
+/// stored. A level's exit times are computed from its cell's faces when its DDA starts, then
+/// advanced by one cell's crossing time per step.
 ///
 /// The walk is limited to the tree's extent: the cubes of the root's entries for a root tree
 /// (regions beyond them are background), the fixed domain for a bounded tree.
@@ -259,6 +260,26 @@ private:
     // parent when the ray leaves the node.
     template <Index P>
     void advance(int axis);
+    // The edge of the cells the DDA of level P walks (the children of the node at level P).
+    template <Index P>
+    static constexpr Int64 CELL = Int64(1) << NodeAt<P>::ChildNodeType::TOTAL;
+    // The lower corner, on `axis`, of the cell after the current one of level P.
+    template <Index P>
+    Int64 nextCorner(int axis) const {
+        return Int64(mCell[P][axis]) + mStep[axis] * CELL<P>;
+    }
+    // Whether the corner `c` from nextCorner() is still inside the node of level P < TOP.
+    template <Index P>
+    bool insideNode(int axis, Int64 c) const {
+        const Int64 o = mOrigin[P][axis];
+        return (c >= o) & (c < o + Int64(NodeAt<P>::DIM));
+    }
+    // Moves the DDA of level P to the cell with corner `c` on `axis`.
+    template <Index P>
+    void moveTo(int axis, Int64 c) {
+        mCell[P][axis] = Int32(c);
+        mExit[P][axis] += double(CELL<P>) * mInvAbs[axis];
+    }
     // (Re)starts the DDA of level P in the cell holding voxel `ijk`.
     template <Index P>
     void startAt(const Coord& ijk);
@@ -485,44 +506,37 @@ template <typename TreeT>
 template <Index P>
 bool HierarchicalDDA<TreeT>::extendTile(int axis, const Span& span) {
     using NodeT = NodeAt<P>;
-    constexpr Int64 D = Int64(1) << NodeT::ChildNodeType::TOTAL;
-    const Int64 c = Int64(mCell[P][axis]) + (mFar[axis] != 0.0 ? D : -D);
-    const Int64 o = mOrigin[P][axis];
-    if ((c < o) | (c >= o + Int64(NodeT::DIM)))
+    const Int64 c = nextCorner<P>(axis);
+    if (!insideNode<P>(axis, c))
         return false;
     Coord cell = mCell[P];
     cell[axis] = Int32(c);
     const NodeT& node = *std::get<P>(mNodes);
     const Index n = NodeT::coordToOffset(cell);
-    if (node.getChildMask().isOn(n) || !(node.getTileValue(n) == span.value) ||
-        node.isTileOn(n) != span.active)
+    if (node.isChild(n) || !(node.getTileValue(n) == span.value) || node.isTileOn(n) != span.active)
         return false;
-    mCell[P][axis] = Int32(c);
-    mExit[P][axis] += double(D) * mInvAbs[axis];
+    moveTo<P>(axis, c);
     return true;
 }
 
 template <typename TreeT>
 template <Index P>
 void HierarchicalDDA<TreeT>::advance(int axis) {
-    constexpr Int64 D = Int64(1) << NodeAt<P>::ChildNodeType::TOTAL;
-    const Int64 c = Int64(mCell[P][axis]) + (mFar[axis] != 0.0 ? D : -D);
+    const Int64 c = nextCorner<P>(axis);
     if constexpr (P == TOP) {
         if ((c < mBounds.min()[axis]) | (c > mBounds.max()[axis])) {
             mDone = true;  // the walk leaves the tree's extent
             return;
         }
     } else {
-        const Int64 o = mOrigin[P][axis];
-        if ((c < o) | (c >= o + Int64(NodeAt<P>::DIM))) {
+        if (!insideNode<P>(axis, c)) {
             // The ray leaves this node: the parent steps across the same face.
             mLevel = P + 1;
             advance<P + 1>(axis);
             return;
         }
     }
-    mCell[P][axis] = Int32(c);
-    mExit[P][axis] += double(D) * mInvAbs[axis];
+    moveTo<P>(axis, c);
 }
 
 }  // namespace vdb::math

@@ -101,10 +101,10 @@ inline std::string_view temporalIntegrationSchemeToString(TemporalIntegrationSch
 ///
 /// The smoothness regulariser is OpenVDB's: 1e-6 * scale2, with `scale2` a squared magnitude of
 /// the values in their own units (OpenVDB's default and ours, 0.01, for level sets in world
-/// units), so that schemes built on it give OpenVDB's results. It is kept above a floor whose
-/// fourth power is still a normal number of type T (1e-9 for float, 1e-30 for double), so the
-/// weights stay finite where the differences vanish. The weights are normalised with one
-/// division, in double precision (their products would underflow a float).
+/// units), so that schemes built on it give OpenVDB's results. It is kept above a floor (1e-9
+/// for float, 1e-30 for double) so that the weights stay finite where the differences vanish
+/// even for scale2 = 0. The weights are normalised with one division, in double precision
+/// (their products, of fourth powers of smoothness indicators, would underflow a float).
 template <typename T>
 inline T weno5(T v1, T v2, T v3, T v4, T v5, T scale2 = T(0.01)) {
     const T c13 = T(13) / T(12);
