@@ -51,7 +51,8 @@ struct Delta<double> {
     static constexpr double value() { return 1e-9; }
 };
 
-/// Returns |x|; for unsigned types, x itself.
+/// Returns |x|; for unsigned types, x itself. @pre for signed integers, x is not the type's
+/// minimum (whose magnitude it cannot hold): use absDiff() for distances.
 template <typename T>
 constexpr T Abs(T x) {
     if constexpr (std::is_unsigned_v<T>) {
@@ -61,29 +62,81 @@ constexpr T Abs(T x) {
     }
 }
 
-/// True when `a` and `b` differ by at most `tolerance` (absolute). Integers compare exactly.
+/// The distance |a - b| between two values of `T`, without overflow: for integers it is
+/// computed and returned in the unsigned type of the same width (two int32 values of opposite
+/// sign near +-2^31 are 2^32 - 1 apart, which fits), for floating-point types in `T` (infinite
+/// when the difference overflows), for bool 0 or 1.
 template <typename T>
-constexpr bool isApproxEqual(T a, T b, T tolerance) {
-    if constexpr (std::is_integral_v<T>) {
-        return a == b;
+constexpr auto absDiff(T a, T b) {
+    static_assert(std::is_arithmetic_v<T>, "absDiff takes an arithmetic type");
+    if constexpr (std::is_same_v<T, bool>) {
+        return a != b;
+    } else if constexpr (std::is_integral_v<T>) {
+        using U = std::make_unsigned_t<T>;
+        return a < b ? U(U(b) - U(a)) : U(U(a) - U(b));
     } else {
-        return !(Abs(a - b) > tolerance);
+        return Abs(a - b);
     }
 }
+
+/// True when |a - b| <= `tolerance`: the one tolerance comparison of the library (node
+/// isConstant(), prune, background tiles, composites). Equal values are always equal, whatever
+/// the tolerance; otherwise a negative tolerance matches nothing. Integers compare their exact
+/// distance (no overflow at the extremes of the type), bools compare exactly, and NaN is
+/// approximately equal to nothing (a node holding NaN among other values is never constant, so
+/// no value is lost to a tile).
 template <typename T>
+requires std::is_arithmetic_v<T>
+constexpr bool isApproxEqual(T a, T b, T tolerance) {
+    if constexpr (std::is_same_v<T, bool>) {
+        return a == b;
+    } else if constexpr (std::is_integral_v<T>) {
+        using U = std::make_unsigned_t<T>;
+        return a == b || (tolerance >= T(0) && absDiff(a, b) <= U(tolerance));
+    } else {
+        return a == b || absDiff(a, b) <= tolerance;
+    }
+}
+/// As above with the default tolerance of `T` (OpenVDB's: 1e-8 for float, 1e-15 for double,
+/// exact for integers and bools).
+template <typename T>
+requires std::is_arithmetic_v<T>
 constexpr bool isApproxEqual(T a, T b) {
     return isApproxEqual(a, b, Tolerance<T>::value());
 }
 
 /// True when `a` and `b` differ by at most `absTol`, or by at most `relTol` times the larger
-/// magnitude. Use this for values far from 1, where an absolute tolerance means nothing.
+/// magnitude. Use this for values far from 1, where an absolute tolerance means nothing. NaN is
+/// equal to nothing; integers compare their exact distance.
 template <typename T>
+requires std::is_arithmetic_v<T>
 constexpr bool isRelOrApproxEqual(T a, T b, T absTol, T relTol) {
-    const T diff = Abs(a - b);
-    if (!(diff > absTol))
+    if (isApproxEqual(a, b, absTol))
         return true;
-    const T scale = Abs(a) > Abs(b) ? Abs(a) : Abs(b);
-    return !(diff > relTol * scale);
+    if constexpr (std::is_integral_v<T>) {
+        const double x = a < T(0) ? -double(a) : double(a), y = b < T(0) ? -double(b) : double(b);
+        return double(absDiff(a, b)) <= double(relTol) * (x > y ? x : y);
+    } else {
+        const T scale = Abs(a) > Abs(b) ? Abs(a) : Abs(b);
+        return absDiff(a, b) <= relTol * scale;
+    }
+}
+
+/// Three-way comparison of `hi - lo` with `c`, as exact numbers for integer types (no
+/// overflow; types of up to 32 bits, the components of vector values) and as `T` arithmetic
+/// for floating-point types: negative, zero or positive as `hi - lo` is below, equal to or
+/// above `c`. NaN compares as equal.
+template <typename T>
+requires std::is_arithmetic_v<T>
+constexpr int compareDifference(T lo, T hi, T c) {
+    if constexpr (std::is_integral_v<T>) {
+        static_assert(sizeof(T) <= 4, "compareDifference: integer types of at most 32 bits");
+        const Int64 d = Int64(hi) - Int64(lo);
+        return (d > Int64(c)) - (d < Int64(c));
+    } else {
+        const T d = hi - lo;
+        return (d > c) - (d < c);
+    }
 }
 
 /// True when `x` is exactly zero.

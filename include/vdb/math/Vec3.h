@@ -184,9 +184,13 @@ constexpr bool isApproxEqual(const Vec3<T>& a, const Vec3<T>& b, const Vec3<T>& 
     return isApproxEqual(a[0], b[0], tolerance[0]) && isApproxEqual(a[1], b[1], tolerance[1]) &&
            isApproxEqual(a[2], b[2], tolerance[2]);
 }
+/// OpenVDB's default comparison of vectors: each component within 1e-7, absolutely or relative
+/// to the larger magnitude (exact for integer components).
 template <typename T>
 constexpr bool isApproxEqual(const Vec3<T>& a, const Vec3<T>& b) {
-    return isApproxEqual(a, b, Tolerance<T>::value());
+    const T eps = std::is_integral_v<T> ? T(0) : static_cast<T>(1e-7);
+    return isRelOrApproxEqual(a[0], b[0], eps, eps) && isRelOrApproxEqual(a[1], b[1], eps, eps) &&
+           isRelOrApproxEqual(a[2], b[2], eps, eps);
 }
 
 /// Componentwise absolute value.

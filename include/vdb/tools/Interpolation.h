@@ -43,11 +43,30 @@ struct SamplerScalar<math::Vec3<T>> {
     using Type = T;
 };
 
-/// a + (b - a) * w, in the value's component type.
+/// OpenVDB's interpolation step a + ValueT((b - a) * w): the difference times the weight in
+/// double, converted to the value type (integers truncate toward zero) and added to `a`;
+/// vectors component by component. Integer differences are exact (no overflow for values of
+/// opposite sign near the extremes of the type), so for w in [0, 1] the result lies between
+/// `a` and `b`.
 template <typename ValueT>
 ValueT lerp(const ValueT& a, const ValueT& b, double w) {
-    using ScalarT = typename SamplerScalar<ValueT>::Type;
-    return ValueT(a + (b - a) * ScalarT(w));
+    if constexpr (std::is_integral_v<ValueT> && sizeof(ValueT) <= 4) {
+        return ValueT(Int64(a) + Int64((double(Int64(b) - Int64(a))) * w));
+    } else if constexpr (std::is_integral_v<ValueT>) {
+        // 64-bit integers: long double holds every difference to within one unit.
+        const long double d = (static_cast<long double>(b) - static_cast<long double>(a)) * w;
+        const long double r = static_cast<long double>(a) + std::trunc(d);
+        const long double lo = static_cast<long double>(a < b ? a : b);
+        const long double hi = static_cast<long double>(a < b ? b : a);
+        return r <= lo ? (a < b ? a : b) : r >= hi ? (a < b ? b : a) : ValueT(r);
+    } else if constexpr (std::is_arithmetic_v<ValueT>) {
+        return ValueT(a + ValueT(double(b - a) * w));
+    } else {
+        ValueT out;
+        for (int i = 0; i < 3; ++i)
+            out[i] = lerp(a[i], b[i], w);
+        return out;
+    }
 }
 
 }  // namespace detail

@@ -7,16 +7,18 @@
 /// - prune(): a node without children whose values all lie within `tolerance` of each other
 ///   (largest minus smallest at most `tolerance`) and share one active state becomes a tile of
 ///   that state. Its value is the node's lower median: element (N - 1) / 2 of the N values in
-///   ascending order (vectors compare lexicographically). Bool and mask trees compare exactly.
+///   ascending order (vectors compare lexicographically). Bool and mask trees compare exactly;
+///   integers compare their exact difference over the whole range of the type; a node that
+///   holds a NaN is never constant.
 /// - pruneInactive(): a node with no active value and no child becomes an inactive tile of the
 ///   background; pruneInactiveWithValue() uses a given value instead.
 /// - pruneLevelSet(): a node with no active value and no child becomes an inactive tile of the
 ///   inside value (-background) when its first value is negative, else of the outside value
 ///   (+background).
 /// With a root on top, every inactive root tile equal to the background is then removed, with
-/// OpenVDB's default comparison (within 1e-8 for float, 1e-15 for double; exact for integers
-/// and bools; per component within 1e-7, absolute or relative, for vectors). A bounded tree's
-/// top node keeps its tiles.
+/// OpenVDB's default comparison (math::isApproxEqual(a, b)) (within 1e-8 for float, 1e-15 for
+/// double; exact for integers and bools; per component within 1e-7, absolute or relative, for
+/// vectors). A bounded tree's top node keeps its tiles.
 ///
 /// Cost: one pass over the masks of every node below the top and over the values of each node
 /// whose mask allows a tile; the nodes of one level are processed in parallel, children before
@@ -33,6 +35,8 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/math/Math.h>
+#include <vdb/math/Vec3.h>
 #include <vdb/tools/detail/NodeLists.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/Tree.h>
@@ -98,49 +102,31 @@ bool pruneLess(const ValueT& a, const ValueT& b) {
     }
 }
 
-/// True when `hi - lo` exceeds `tolerance`, for `lo` before `hi` in pruneLess order. Integer
-/// differences are taken without overflow.
+/// True when `hi - lo` exceeds `tolerance`, for `lo` before `hi` in pruneLess order: for
+/// scalars the negation of math::isApproxEqual() (exact integer distances), for vectors
+/// OpenVDB's lexicographic comparison of the componentwise difference with the tolerance.
 template <typename ValueT>
 bool pruneSpreadExceeds(const ValueT& lo, const ValueT& hi, const ValueT& tolerance) {
-    if constexpr (std::is_integral_v<ValueT>) {
-        using U = std::make_unsigned_t<ValueT>;
-        return tolerance < 0 || U(U(hi) - U(lo)) > U(tolerance);
-    } else if constexpr (std::is_arithmetic_v<ValueT>) {
-        return hi - lo > tolerance;
+    if constexpr (std::is_arithmetic_v<ValueT>) {
+        return !math::isApproxEqual(lo, hi, tolerance);
     } else {
-        // Lexicographic "greater than" on the componentwise difference.
-        const ValueT d = hi - lo;
         for (int i = 0; i < 2; ++i) {
-            if (d[i] != tolerance[i])
-                return d[i] > tolerance[i];
+            if (const int c = math::compareDifference(lo[i], hi[i], tolerance[i]); c != 0)
+                return c > 0;
         }
-        return d[2] > tolerance[2];
+        return math::compareDifference(lo[2], hi[2], tolerance[2]) > 0;
     }
 }
 
-/// OpenVDB's default approximate equality, which decides which root tiles are background.
+/// True when `v` is or holds a NaN: such a node is never constant (no value is lost to a tile).
 template <typename ValueT>
-bool isApproxBackground(const ValueT& a, const ValueT& b) {
-    if constexpr (std::is_same_v<ValueT, float>) {
-        return !(std::abs(a - b) > 1e-8f);
-    } else if constexpr (std::is_same_v<ValueT, double>) {
-        return !(std::abs(a - b) > 1e-15);
+bool holdsNan(const ValueT& v) {
+    if constexpr (std::is_floating_point_v<ValueT>) {
+        return v != v;
     } else if constexpr (std::is_arithmetic_v<ValueT>) {
-        return a == b;
+        return false;
     } else {
-        // Vectors: each component within 1e-7, absolutely or relative to the larger magnitude.
-        using T = typename ValueT::ValueType;
-        const T eps = static_cast<T>(1e-7);
-        for (int i = 0; i < 3; ++i) {
-            const T x = a[i], y = b[i];
-            const T diff = T(x - y);
-            if (!(std::abs(diff) > eps))
-                continue;
-            const T scale = std::abs(y) > std::abs(x) ? y : x;
-            if (!(double(std::abs(T(diff / scale))) <= double(eps)))
-                return false;
-        }
-        return true;
+        return holdsNan(v[0]) || holdsNan(v[1]) || holdsNan(v[2]);
     }
 }
 
@@ -148,8 +134,12 @@ bool isApproxBackground(const ValueT& a, const ValueT& b) {
 template <typename ValueT, typename GetT>
 bool valuesWithin(Index n, const GetT& get, const ValueT& tolerance) {
     ValueT lo = get(0), hi = lo;
+    if (holdsNan(lo))
+        return false;
     for (Index i = 1; i < n; ++i) {
         const ValueT& v = get(i);
+        if (holdsNan(v))
+            return false;
         if (pruneLess(v, lo)) {
             if (pruneSpreadExceeds(v, hi, tolerance))
                 return false;
@@ -286,7 +276,7 @@ void pruneBottomUp(TreeT& tree, const DecideT& decide, bool threaded) {
                 e.active = state;
                 freed.store(true, std::memory_order_relaxed);
             }
-            if (!e.child && !e.active && isApproxBackground(e.tile, top.background()))
+            if (!e.child && !e.active && math::isApproxEqual(e.tile, top.background()))
                 background.push_back(top.key(c));
         }
         for (const Coord& key : background)

@@ -33,6 +33,7 @@
 
 #pragma once
 
+#include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/tools/detail/NodeLists.h>
@@ -46,6 +47,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -55,11 +58,14 @@ namespace vdb::tools {
 /// Sets every inactive value of a closed narrow-band level set to -|background| inside and
 /// +|background| outside, from the signs of the active voxels; the background becomes
 /// +|background|. Leaves are filled in parallel when `threaded`, then each level above.
+/// @throw ValueError for an integer background whose magnitude the type cannot hold (its
+///        minimum, e.g. -2^31 for int32).
 template <SignedVdbTree TreeT>
 void signedFloodFill(TreeT& tree, bool threaded = true);
 
 /// As signedFloodFill(), with inactive values -|insideValue| inside and +|outsideValue| outside;
 /// the tree's background becomes +|outsideValue|.
+/// @throw ValueError for an integer value whose magnitude the type cannot hold.
 template <SignedVdbTree TreeT>
 void signedFloodFillWithValues(TreeT& tree, const typename TreeT::ValueType& outsideValue,
                                const typename TreeT::ValueType& insideValue, bool threaded = true);
@@ -73,6 +79,11 @@ ValueT floodAbs(const ValueT& v) {
     if constexpr (std::is_floating_point_v<ValueT>) {
         return std::abs(v);
     } else {
+        if (v == std::numeric_limits<ValueT>::min())
+            throw ValueError("signedFloodFill: the value " + std::to_string(v) +
+                             " has no positive counterpart in its integer type; use a "
+                             "magnitude of at most " +
+                             std::to_string(std::numeric_limits<ValueT>::max()));
         return v < ValueT(0) ? ValueT(-v) : v;
     }
 }

@@ -499,7 +499,7 @@ bool InternalNode<ChildT, Log2Dim>::isConstant(ValueType& first, bool& state,
         return false;
     first = mTable[0].value;
     for (Index n = 1; n < NUM_VALUES; ++n) {
-        if (!detail::isApproxEqual(mTable[n].value, first, tolerance))
+        if (!math::isApproxEqual(mTable[n].value, first, tolerance))
             return false;
     }
     return true;

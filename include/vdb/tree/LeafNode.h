@@ -398,7 +398,7 @@ bool LeafNode<ValueT, Log2Dim>::isConstant(ValueT& first, bool& state,
     const ValueT* data = values();
     first = data[0];
     for (Index n = 1; n < NUM_VALUES; ++n) {
-        if (!detail::isApproxEqual(data[n], first, tolerance))
+        if (!math::isApproxEqual(data[n], first, tolerance))
             return false;
     }
     return true;

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
-/// Small helpers shared by the node templates: node-type lookup by level, value comparison
-/// with a tolerance, and the bit test used to skip filling zero-initialized tables.
+/// Small helpers shared by the node templates: node-type lookup by level, saturating counts,
+/// and the bit test used to skip filling zero-initialized tables. Values are compared with
+/// math::isApproxEqual() (math/Math.h, math/Vec3.h), the library's one tolerance comparison.
 
 #pragma once
 
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/math/Math.h>
+#include <vdb/math/Vec3.h>
 
 #include <cmath>
 #include <concepts>
@@ -29,22 +32,6 @@ template <typename TopT, Index Level>
 using NodeAtLevelT = typename NodeAtLevel<TopT, Level>::Type;
 
 namespace detail {
-
-/// True when `a` and `b` differ by at most `tolerance` in every component.
-template <typename ValueT>
-constexpr bool isApproxEqual(const ValueT& a, const ValueT& b, const ValueT& tolerance) {
-    if constexpr (std::is_same_v<ValueT, bool>) {
-        return a == b;
-    } else if constexpr (std::is_arithmetic_v<ValueT>) {
-        return a == b || (a > b ? a - b : b - a) <= tolerance;
-    } else {
-        // Vector types: componentwise.
-        for (int i = 0; i < 3; ++i)
-            if (!isApproxEqual(a[i], b[i], tolerance[i]))
-                return false;
-        return true;
-    }
-}
 
 /// Voxel counts saturate at 2^64 - 1 instead of wrapping (a bounded [7,6,5,4,3] domain holds
 /// 2^75 voxels).

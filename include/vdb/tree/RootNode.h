@@ -79,8 +79,9 @@ public:
     void eraseValue(const Coord& ijk, bool& deleted);
     /// See InternalNode::fill.
     void fill(const CoordBBox& bbox, const ValueType& value, bool active, bool& deleted);
-    /// Prunes every child (see InternalNode::prune), then removes inactive tiles within
-    /// `tolerance` of the background. Returns true when any node was freed.
+    /// Prunes every child (see InternalNode::prune), then removes inactive tiles equal to the
+    /// background under math::isApproxEqual()'s default tolerance (as OpenVDB does). Returns
+    /// true when any node was freed.
     bool prune(const ValueType& tolerance);
     /// Deletes every entry.
     void clear();
@@ -317,7 +318,7 @@ bool RootNode<ChildT, TableT>::prune(const ValueType& tolerance) {
                 deleted = true;
             }
         }
-        if (!e.child && !e.active && detail::isApproxEqual(e.tile, mBackground, tolerance)) {
+        if (!e.child && !e.active && math::isApproxEqual(e.tile, mBackground)) {
             background.push_back(key(c));
         }
     }

@@ -186,7 +186,9 @@ public:
     /// region of a node, that region becomes one tile.
     void fill(const CoordBBox& bbox, const ValueType& value, bool active = true);
     /// Replaces every node whose values lie within `tolerance` of its first value and share
-    /// one active state with a tile, bottom-up; drops root tiles equal to the background.
+    /// one active state with a tile, bottom-up (math::isApproxEqual(), exact for integers
+    /// over their whole range); drops root tiles equal to the background. tools::prune() is
+    /// the threaded form, which compares the spread of the values and keeps their median.
     void prune(const ValueType& tolerance = ValueType{});
     /// Frees every node: the tree holds only the background.
     void clear();

@@ -9,6 +9,7 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/math/Math.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
 
@@ -26,23 +27,6 @@
 namespace vdb::tools::detail {
 
 enum class CsgKind { Union, Intersection, Difference };
-
-/// OpenVDB's default comparison tolerance, used to recognise background values.
-template <typename ValueT>
-constexpr ValueT csgTolerance() {
-    if constexpr (std::is_same_v<ValueT, float>) {
-        return 1e-8f;
-    } else if constexpr (std::is_same_v<ValueT, double>) {
-        return 1e-15;
-    } else {
-        return ValueT(0);
-    }
-}
-
-template <typename ValueT>
-bool csgApproxEqual(const ValueT& a, const ValueT& b) {
-    return !(std::abs(a - b) > csgTolerance<ValueT>());
-}
 
 /// Throws ValueError unless `background` is positive (and its negation negative), the sign
 /// convention every level set input of a CSG operation must follow.
@@ -127,9 +111,9 @@ private:
     /// only), then the value is negated for a difference.
     ValueT movedValue(ValueT v, bool active) const {
         if (!active && !(mBackgroundA == mBackgroundB)) {
-            if (csgApproxEqual(v, mBackgroundB)) {
+            if (math::isApproxEqual(v, mBackgroundB)) {
                 v = mBackgroundA;
-            } else if (csgApproxEqual(v, ValueT(-mBackgroundB))) {
+            } else if (math::isApproxEqual(v, ValueT(-mBackgroundB))) {
                 v = -mBackgroundA;
             }
         }
@@ -298,7 +282,7 @@ private:
         std::vector<Coord> keys;
         for (auto c = root.cbegin(); root.valid(c); root.next(c)) {
             const auto& e = root.entry(c);
-            if (!e.child && !e.active && csgApproxEqual(e.tile, mBackgroundA))
+            if (!e.child && !e.active && math::isApproxEqual(e.tile, mBackgroundA))
                 keys.push_back(root.key(c));
         }
         for (const Coord& key : keys)
