@@ -221,9 +221,9 @@ TEST(LevelSetSphere, EnrightEightSpheresIsTheLevelSetOfTheUnion) {
             d = std::min(d, sphereDistance(0.125f, c)(x, y, z));
         return d;
     };
+    // The transform keeps the voxel size 1/96 in double, not rounded through float.
     const double dx = 1.0 / resolution;
-    checkLevelSet(*grid, sdf, CoordBBox(Coord(-5), Coord(resolution + 5)), double(1.0f / 96.0f),
-                  5.0, dx * 2e-5);
+    checkLevelSet(*grid, sdf, CoordBBox(Coord(-5), Coord(resolution + 5)), dx, 5.0, dx * 2e-5);
     const auto single = tools::createLevelSetSphere<FloatGrid>(0.125f, centers[0], float(dx), 5.0f);
     EXPECT_GT(grid->activeVoxelCount(), 4 * single->activeVoxelCount());
     auto serial = tools::createEnrightEightSpheres<FloatGrid>(resolution, 5.0f, false);

@@ -46,6 +46,7 @@ struct ContentItem {
     int level = 0;
     bool active = false;
     ValueT value{};
+    bool operator==(const ContentItem&) const = default;
 };
 
 /// Every value the tree stores (voxels and tiles, active or not), sorted by box.

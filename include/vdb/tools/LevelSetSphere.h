@@ -40,7 +40,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -50,15 +52,26 @@ namespace vdb::tools {
 /// background voxelSize * halfWidth, a linear transform of `voxelSize`, grid class level set.
 /// A sphere whose radius is below 1.5 voxels gives an empty grid (as in OpenVDB).
 /// @param halfWidth  half the width of the band, in voxels.
-/// @throw ValueError when radius or voxelSize is not positive or halfWidth is not above 1.
-/// @throw IndexError when a band voxel lies outside a bounded tree's domain.
+/// @throw ValueError when radius or voxelSize is not positive and finite, the center is not
+///        finite, or halfWidth is not above 1.
+/// @throw IndexError when a band voxel lies outside a bounded tree's domain or beyond the
+///        32-bit index space.
 template <typename GridT>
 requires std::is_floating_point_v<typename GridT::ValueType>
 typename GridT::Ptr createLevelSetSphere(float radius, const Vec3f& center, float voxelSize,
                                          float halfWidth = 3.0f, bool threaded = true);
 
+/// As above, with the voxel size, radius, center and half width in double: the transform
+/// keeps `voxelSize` exactly (the float form stores float(voxelSize), e.g. 0.012500000186 for
+/// 0.0125), and the center's position is resolved to the voxel anywhere in the index space.
+template <typename GridT>
+requires std::is_floating_point_v<typename GridT::ValueType>
+typename GridT::Ptr createLevelSetSphere(double radius, const Vec3d& center, double voxelSize,
+                                         double halfWidth = 3.0, bool threaded = true);
+
 /// The Enright sphere of the paper's section 5: radius 0.15 around (0.35, 0.35, 0.35) in the
-/// unit box, voxel size 1 / resolution.
+/// unit box, voxel size 1 / resolution (in double in the transform; the values are those of
+/// createLevelSetSphere(0.15f, Vec3f(0.35f), 1.0f / resolution)).
 /// @throw ValueError when resolution is not positive.
 template <typename GridT>
 requires std::is_floating_point_v<typename GridT::ValueType>
@@ -80,12 +93,50 @@ typename GridT::Ptr createEnrightEightSpheres(int resolution, float halfWidth = 
 
 namespace detail {
 
-/// A sphere in index space (voxel units).
+/// A sphere in index space (voxel units): its center is `origin + center`, with `origin` an
+/// integer voxel and `center` in ValueT, so that distances are computed from the exact integer
+/// differences i - origin. Spheres near the index origin keep origin 0 and OpenVDB's ValueT
+/// center (the arithmetic is then OpenVDB's, bit for bit); far ones keep only the fraction in
+/// ValueT, so a float grid's sphere at 10^9 voxels is as round as one at the origin.
 template <typename ValueT>
 struct IndexSphere {
+    std::array<Int64, 3> origin;
     math::Vec3<ValueT> center;
     ValueT radius;
+
+    /// ValueT(i) - center[a] along axis `a`, exact in the integer part.
+    ValueT offset(int a, Int64 i) const { return ValueT(i - origin[size_t(a)]) - center[a]; }
 };
+
+/// The index-space sphere of world `radius` and `center` at `voxelSize` (dx in ValueT): in ValueT
+/// arithmetic (OpenVDB's) while the center and the band lie where ValueT holds every voxel
+/// coordinate exactly with room to spare, else from the double-precision center.
+/// @throw IndexError when the band reaches beyond the 32-bit index space.
+template <typename ValueT>
+IndexSphere<ValueT> makeIndexSphere(double radius, const Vec3d& center, double voxelSize, ValueT dx,
+                                    ValueT w) {
+    constexpr double exact = double(Int64(1) << (std::numeric_limits<ValueT>::digits - 2));
+    IndexSphere<ValueT> sphere{};
+    sphere.radius = ValueT(radius) / dx;
+    const double reach = double(sphere.radius) + double(w) + 2.0;
+    for (int a = 0; a < 3; ++a) {
+        const ValueT fast = ValueT(center[a]) / dx;
+        const double c = center[a] / voxelSize;
+        if (!(std::abs(c) + reach < 2147483647.0))
+            throw IndexError("createLevelSetSphere: the band of the sphere around " +
+                             std::to_string(center[a]) + " (voxel " + std::to_string(c) +
+                             ") reaches beyond the 32-bit index space of +-2^31 voxels");
+        if (std::abs(double(fast)) + reach < exact) {
+            sphere.origin[size_t(a)] = 0;
+            sphere.center[a] = fast;
+        } else {
+            const double whole = std::floor(c);
+            sphere.origin[size_t(a)] = Int64(whole);
+            sphere.center[a] = ValueT(c - whole);
+        }
+    }
+    return sphere;
+}
 
 /// Takes ownership of `leaf` and links it into `tree`, creating the internal nodes above it
 /// from the tiles they replace. @pre no leaf exists at its origin
@@ -149,8 +200,9 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
     for (size_t s = 0; s < spheres.size(); ++s) {
         const ValueT rmax = spheres[s].radius + w;
         for (int a = 0; a < 3; ++a) {
-            const Int64 l = Int64(int(std::floor(spheres[s].center[a] - rmax)));
-            const Int64 h = Int64(int(std::ceil(spheres[s].center[a] + rmax)));
+            const Int64 o = spheres[s].origin[size_t(a)];
+            const Int64 l = o + Int64(std::floor(spheres[s].center[a] - rmax));
+            const Int64 h = o + Int64(std::ceil(spheres[s].center[a] + rmax));
             lo[a] = s == 0 ? l : std::min(lo[a], l);
             hi[a] = s == 0 ? h : std::max(hi[a], h);
         }
@@ -181,9 +233,8 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
                     // that rounding cannot matter).
                     near.clear();
                     for (size_t s = 0; s < spheres.size(); ++s) {
-                        const auto& c = spheres[s].center;
-                        const ValueT x2 = pow2(ValueT(Int32(i)) - c[0]);
-                        const ValueT x2y2 = pow2(ValueT(Int32(j)) - c[1]) + x2;
+                        const ValueT x2 = pow2(spheres[s].offset(0, i));
+                        const ValueT x2y2 = pow2(spheres[s].offset(1, j)) + x2;
                         const ValueT reach = spheres[s].radius + w + ValueT(1);
                         if (!(x2y2 > reach * reach))
                             near.emplace_back(s, x2y2);
@@ -204,16 +255,16 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
                     };
                     if (near.size() == 1) {
                         const ValueT x2y2 = near[0].second;
-                        const ValueT cz = spheres[near[0].first].center[2];
-                        const ValueT r0 = spheres[near[0].first].radius;
+                        const auto& sphere = spheres[near[0].first];
+                        const ValueT r0 = sphere.radius;
                         for (Int64 k = lo[2]; k <= hi[2];) {
-                            const ValueT v = std::sqrt(x2y2 + pow2(ValueT(Int32(k)) - cz)) - r0;
+                            const ValueT v = std::sqrt(x2y2 + pow2(sphere.offset(2, k))) - r0;
                             const ValueT d = std::abs(v);
                             if (d < w) {
                                 emit(k, v);
                                 ++k;
                             } else {
-                                k += 1 + Int64(int(std::floor(d - w)));
+                                k += 1 + Int64(std::floor(d - w));
                             }
                         }
                         continue;
@@ -222,9 +273,9 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
                         ValueT v = 0;
                         for (size_t n = 0; n < near.size(); ++n) {
                             const auto& sphere = spheres[near[n].first];
-                            const ValueT vs = std::sqrt(near[n].second +
-                                                        pow2(ValueT(Int32(k)) - sphere.center[2])) -
-                                              sphere.radius;
+                            const ValueT vs =
+                                std::sqrt(near[n].second + pow2(sphere.offset(2, k))) -
+                                sphere.radius;
                             v = n == 0 ? vs : std::min(v, vs);
                         }
                         const ValueT d = std::abs(v);
@@ -232,7 +283,7 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
                             emit(k, v);
                             ++k;
                         } else {
-                            k += 1 + Int64(int(std::floor(d - w)));
+                            k += 1 + Int64(std::floor(d - w));
                         }
                     }
                 }
@@ -253,41 +304,45 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
 }
 
 /// An empty level-set grid as OpenVDB's createLevelSet makes it: background
-/// voxelSize * halfWidth (computed in double), a linear transform, class level set.
+/// voxelSize * halfWidth (computed in double), a linear transform of `voxelSize`, class level
+/// set.
 template <typename GridT>
-typename GridT::Ptr makeLevelSetGrid(typename GridT::ValueType voxelSize,
-                                     typename GridT::ValueType halfWidth) {
+typename GridT::Ptr makeLevelSetGrid(double voxelSize, double halfWidth) {
     using ValueT = typename GridT::ValueType;
-    auto grid = GridT::create(ValueT(double(voxelSize) * double(halfWidth)));
-    grid->setTransform(math::Transform::createLinearTransform(double(voxelSize)));
+    auto grid = GridT::create(ValueT(voxelSize * halfWidth));
+    grid->setTransform(math::Transform::createLinearTransform(voxelSize));
     grid->setGridClass(GRID_LEVEL_SET);
     return grid;
 }
 
 /// Rasterizes world-space spheres (radius, center) at `voxelSize` into a new level-set grid.
+/// Index-space arithmetic is in ValueT with ValueT(voxelSize), as OpenVDB's; the transform
+/// keeps `voxelSize` itself.
 template <typename GridT>
-typename GridT::Ptr createLevelSetSpheres(const std::vector<std::pair<float, Vec3f>>& spheres,
-                                          float voxelSize, float halfWidth, bool threaded) {
+typename GridT::Ptr createLevelSetSpheres(const std::vector<std::pair<double, Vec3d>>& spheres,
+                                          double voxelSize, double halfWidth, bool threaded) {
     using ValueT = typename GridT::ValueType;
-    for (const auto& sphere : spheres) {
-        if (!(ValueT(sphere.first) > ValueT(0)))
-            throw ValueError("createLevelSetSphere: the radius must be positive");
+    for (const auto& [radius, center] : spheres) {
+        if (!(ValueT(radius) > ValueT(0)) || !std::isfinite(radius))
+            throw ValueError("createLevelSetSphere: the radius must be positive and finite, not " +
+                             std::to_string(radius));
+        if (!std::isfinite(center[0]) || !std::isfinite(center[1]) || !std::isfinite(center[2]))
+            throw ValueError("createLevelSetSphere: the center must be finite");
     }
     const ValueT dx = ValueT(voxelSize), w = ValueT(halfWidth);
-    if (!(dx > ValueT(0)))
-        throw ValueError("createLevelSetSphere: the voxel size must be positive");
-    if (!(w > ValueT(1)))
+    if (!(dx > ValueT(0)) || !std::isfinite(voxelSize))
+        throw ValueError("createLevelSetSphere: the voxel size must be positive and finite, not " +
+                         std::to_string(voxelSize));
+    if (!(w > ValueT(1)) || !std::isfinite(halfWidth))
         throw ValueError("createLevelSetSphere: the half width must be larger than one voxel");
-    auto grid = makeLevelSetGrid<GridT>(dx, w);
+    auto grid = makeLevelSetGrid<GridT>(voxelSize, halfWidth);
 
     // Spheres below 1.5 voxels of radius are left out.
     std::vector<IndexSphere<ValueT>> indexSpheres;
     for (const auto& [radius, center] : spheres) {
-        const ValueT r0 = ValueT(radius) / dx;
-        if (r0 < 1.5f)
+        if (ValueT(radius) / dx < 1.5f)
             continue;
-        const math::Vec3<ValueT> c(center);
-        indexSpheres.push_back({math::Vec3<ValueT>(c[0] / dx, c[1] / dx, c[2] / dx), r0});
+        indexSpheres.push_back(makeIndexSphere(radius, center, voxelSize, dx, w));
     }
     if (indexSpheres.empty())
         return grid;
@@ -302,6 +357,14 @@ template <typename GridT>
 requires std::is_floating_point_v<typename GridT::ValueType>
 typename GridT::Ptr createLevelSetSphere(float radius, const Vec3f& center, float voxelSize,
                                          float halfWidth, bool threaded) {
+    return detail::createLevelSetSpheres<GridT>({{radius, Vec3d(center)}}, voxelSize, halfWidth,
+                                                threaded);
+}
+
+template <typename GridT>
+requires std::is_floating_point_v<typename GridT::ValueType>
+typename GridT::Ptr createLevelSetSphere(double radius, const Vec3d& center, double voxelSize,
+                                         double halfWidth, bool threaded) {
     return detail::createLevelSetSpheres<GridT>({{radius, center}}, voxelSize, halfWidth, threaded);
 }
 
@@ -310,8 +373,8 @@ requires std::is_floating_point_v<typename GridT::ValueType>
 typename GridT::Ptr createEnrightSphere(int resolution, float halfWidth, bool threaded) {
     if (resolution <= 0)
         throw ValueError("createEnrightSphere: the resolution must be positive");
-    return createLevelSetSphere<GridT>(0.15f, Vec3f(0.35f, 0.35f, 0.35f), 1.0f / float(resolution),
-                                       halfWidth, threaded);
+    return detail::createLevelSetSpheres<GridT>({{0.15f, Vec3d(Vec3f(0.35f))}},
+                                                1.0 / double(resolution), halfWidth, threaded);
 }
 
 template <typename GridT>
@@ -319,13 +382,13 @@ requires std::is_floating_point_v<typename GridT::ValueType>
 typename GridT::Ptr createEnrightEightSpheres(int resolution, float halfWidth, bool threaded) {
     if (resolution <= 0)
         throw ValueError("createEnrightEightSpheres: the resolution must be positive");
-    const float r = 0.125f;
-    const std::vector<std::pair<float, Vec3f>> spheres = {
-        {r, Vec3f(0.35f, 0.35f, 0.35f)}, {r, Vec3f(0.15f, 0.15f, 0.85f)},
-        {r, Vec3f(0.15f, 0.85f, 0.15f)}, {r, Vec3f(0.35f, 0.65f, 0.65f)},
-        {r, Vec3f(0.85f, 0.15f, 0.15f)}, {r, Vec3f(0.65f, 0.35f, 0.65f)},
-        {r, Vec3f(0.65f, 0.65f, 0.35f)}, {r, Vec3f(0.85f, 0.85f, 0.85f)}};
-    return detail::createLevelSetSpheres<GridT>(spheres, 1.0f / float(resolution), halfWidth,
+    const double r = 0.125f;
+    const auto at = [](float x, float y, float z) { return Vec3d(Vec3f(x, y, z)); };
+    const std::vector<std::pair<double, Vec3d>> spheres = {
+        {r, at(0.35f, 0.35f, 0.35f)}, {r, at(0.15f, 0.15f, 0.85f)}, {r, at(0.15f, 0.85f, 0.15f)},
+        {r, at(0.35f, 0.65f, 0.65f)}, {r, at(0.85f, 0.15f, 0.15f)}, {r, at(0.65f, 0.35f, 0.65f)},
+        {r, at(0.65f, 0.65f, 0.35f)}, {r, at(0.85f, 0.85f, 0.85f)}};
+    return detail::createLevelSetSpheres<GridT>(spheres, 1.0 / double(resolution), halfWidth,
                                                 threaded);
 }
 
@@ -339,6 +402,10 @@ extern template FloatGrid::Ptr createLevelSetSphere<FloatGrid>(float, const Vec3
                                                                bool);
 extern template DoubleGrid::Ptr createLevelSetSphere<DoubleGrid>(float, const Vec3f&, float, float,
                                                                  bool);
+extern template FloatGrid::Ptr createLevelSetSphere<FloatGrid>(double, const Vec3d&, double, double,
+                                                               bool);
+extern template DoubleGrid::Ptr createLevelSetSphere<DoubleGrid>(double, const Vec3d&, double,
+                                                                 double, bool);
 extern template FloatGrid::Ptr createEnrightSphere<FloatGrid>(int, float, bool);
 extern template DoubleGrid::Ptr createEnrightSphere<DoubleGrid>(int, float, bool);
 extern template FloatGrid::Ptr createEnrightEightSpheres<FloatGrid>(int, float, bool);
