@@ -26,6 +26,7 @@
 #include <vdb/tree/ValueAccessor.h>
 
 #include <memory>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -133,6 +134,21 @@ protected:
 private:
     math::Transform::Ptr mTransform;
 };
+
+/// Throws ValueError unless grids `a` and `b` share one index space: transforms that agree to
+/// a relative 1e-6 (math::Transform::isApproxEqual), so that a voxel size rounded through
+/// float on one side (0.012500000186 for 0.0125) still matches. `operation` names the caller
+/// in the message, which shows both transforms.
+inline void checkMatchingTransforms(const GridBase& a, const GridBase& b,
+                                    std::string_view operation) {
+    if (a.transform().isApproxEqual(b.transform()))
+        return;
+    std::ostringstream msg;
+    msg << operation << ": grids \"" << a.getName() << "\" and \"" << b.getName()
+        << "\" are not in one index space (transforms " << a.transform() << " and " << b.transform()
+        << " differ by more than a relative 1e-6)";
+    throw ValueError(msg.str());
+}
 
 using GridPtrVec = std::vector<GridBase::Ptr>;
 using GridCPtrVec = std::vector<GridBase::ConstPtr>;

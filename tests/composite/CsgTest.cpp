@@ -8,6 +8,7 @@
 // with value d, other voxels of touched leaves hold -+background, whole inside blocks are
 // filled with -background and then pruned into tiles.
 
+#include <vdb/Exceptions.h>
 #include <vdb/Grid.h>
 #include <vdb/tools/Composite.h>
 #include <vdb/tree/Tree.h>
@@ -401,6 +402,13 @@ TYPED_TEST(Csg, GridFormsWorkOnTheTreesAndKeepATransformAndMetadata) {
     ga->setName("a");
     ga->setTransform(math::Transform::createLinearTransform(0.25));
     ga->setGridClass(GRID_LEVEL_SET);
+    // Grids in different index spaces are refused, by every form, before anything changes.
+    EXPECT_THROW(tools::csgDifferenceCopy(*ga, *gb), ValueError);
+    EXPECT_THROW(tools::csgUnion(*ga, *gb), ValueError);
+    EXPECT_THROW(tools::csgIntersection(*ga, *gb), ValueError);
+    EXPECT_TRUE(identical(gb->tree(), this->b));
+    // The same voxel size, rounded through float on one side, is one index space.
+    gb->setTransform(math::Transform::createLinearTransform(double(0.25f * (1.0f + 1e-7f))));
     auto copy = tools::csgDifferenceCopy(*ga, *gb);
     EXPECT_EQ(copy->getName(), "a");
     EXPECT_EQ(copy->getGridClass(), GRID_LEVEL_SET);

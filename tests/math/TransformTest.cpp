@@ -407,6 +407,50 @@ TEST(Transform, EqualityComparesWhatTheMapsCompute) {
     EXPECT_TRUE(Transform(base) == all[7]);
 }
 
+TEST(Transform, ApproximateEqualityIsRelativeToTheVoxelSizeAndTranslation) {
+    // A voxel size rounded through float is the same spacing.
+    const auto exact = Transform::createLinearTransform(0.0125);
+    const auto rounded = Transform::createLinearTransform(double(0.0125f));
+    EXPECT_FALSE(*exact == *rounded);
+    EXPECT_TRUE(exact->isApproxEqual(*rounded));
+    EXPECT_TRUE(rounded->isApproxEqual(*exact));
+    // 1e-5 relative is another spacing; so is a tiny voxel size off by the same factor.
+    EXPECT_FALSE(exact->isApproxEqual(*Transform::createLinearTransform(0.0125 * (1 + 1e-5))));
+    EXPECT_TRUE(Transform::createLinearTransform(1e-9)->isApproxEqual(
+        *Transform::createLinearTransform(1e-9 * (1 + 1e-7))));
+    EXPECT_FALSE(Transform::createLinearTransform(1e-9)->isApproxEqual(
+        *Transform::createLinearTransform(1e-9 * (1 + 1e-5))));
+    // A tighter tolerance.
+    EXPECT_FALSE(exact->isApproxEqual(*rounded, 1e-12));
+    // Translations compare relative to the larger of the voxel size and their magnitude: a far
+    // placement rounded through float matches, a shift of a tenth of a voxel does not.
+    auto far = Transform::createLinearTransform(0.0125);
+    far->postTranslate(Vec3d(1000.1, 0, 0));
+    auto farRounded = Transform::createLinearTransform(0.0125);
+    farRounded->postTranslate(Vec3d(double(1000.1f), 0, 0));
+    EXPECT_TRUE(far->isApproxEqual(*farRounded));
+    auto shifted = Transform::createLinearTransform(0.0125);
+    shifted->postTranslate(Vec3d(0.00125, 0, 0));
+    EXPECT_FALSE(exact->isApproxEqual(*shifted));
+    // Map types do not matter; rotations and frustums compare their parameters.
+    MapParams affine;
+    affine.type = MapType::Affine;
+    affine.matrix = Mat4d::scale(Vec3d(0.0125));
+    EXPECT_TRUE(Transform(affine).isApproxEqual(*rounded));
+    auto rotated = Transform::createLinearTransform(0.0125);
+    rotated->postRotate(1e-3, math::Axis::Z);
+    EXPECT_FALSE(rotated->isApproxEqual(*exact));
+    const std::vector<Transform> all = oneOfEachMapType();
+    for (size_t i = 0; i < all.size(); ++i)
+        for (size_t j = 0; j < all.size(); ++j)
+            EXPECT_EQ(all[i].isApproxEqual(all[j]), i == j) << i << " " << j;
+    MapParams taper = all[7].mapParams();
+    taper.frustumTaper *= 1 + 1e-9;
+    EXPECT_TRUE(Transform(taper).isApproxEqual(all[7]));
+    taper.frustumTaper *= 1 + 1e-3;
+    EXPECT_FALSE(Transform(taper).isApproxEqual(all[7]));
+}
+
 TEST(Transform, VoxelSizeIsTheLengthOfEachAxisImage) {
     Transform xform;
     xform.preScale(Vec3d(2, 3, 4));

@@ -19,6 +19,7 @@
 #include <vdb/math/Math.h>
 #include <vdb/math/Vec3.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -203,8 +204,17 @@ public:
     void postMult(const Mat4d& m);
 
     /// Exact comparison of what the maps compute: linear maps are equal when their matrices
-    /// are (whatever their types), frustum maps when all their parameters are.
+    /// are (whatever their types), frustum maps when all their parameters are. To decide
+    /// whether two grids line up, use isApproxEqual(): voxel sizes that went through float
+    /// on one side (0.0125 and 0.012500000186) are the same grid spacing.
     bool operator==(const Transform& other) const;
+    /// True when the two maps agree to a relative `relTol`: each entry of the linear part
+    /// within relTol times the largest entry of either linear part (about the voxel size),
+    /// each translation within relTol times the larger of that and the translation's own
+    /// magnitude, and for frustum maps each frustum parameter (index-space box, taper, depth)
+    /// within relTol times the largest of 1 and the two values. Map types do not matter, only what
+    /// the maps compute.
+    bool isApproxEqual(const Transform& other, double relTol = 1e-6) const;
 
 private:
     // The frustum part of a NonlinearFrustumMap and the constants derived from it.
@@ -598,7 +608,7 @@ inline bool Transform::isIdentity() const {
     if (mFrustum.taper != 1.0)
         return false;
     for (const Vec3d& p : {Vec3d(0.0), Vec3d(1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1)}) {
-        if (!isApproxEqual(indexToWorld(p), p, 1e-9))
+        if (!math::isApproxEqual(indexToWorld(p), p, 1e-9))
             return false;
     }
     return true;
@@ -614,10 +624,11 @@ inline bool Transform::hasUniformScale() const {
         r2(m(2, 0), m(2, 1), m(2, 2));
     const double lenSqr = (r0.lengthSqr() + r1.lengthSqr() + r2.lengthSqr()) / 3.0;
     const double tol = 1e-8 * lenSqr;
-    return isApproxEqual(r0.lengthSqr(), lenSqr, tol) &&
-           isApproxEqual(r1.lengthSqr(), lenSqr, tol) &&
-           isApproxEqual(r2.lengthSqr(), lenSqr, tol) && isApproxZero(r0.dot(r1), tol) &&
-           isApproxZero(r1.dot(r2), tol) && isApproxZero(r2.dot(r0), tol);
+    return math::isApproxEqual(r0.lengthSqr(), lenSqr, tol) &&
+           math::isApproxEqual(r1.lengthSqr(), lenSqr, tol) &&
+           math::isApproxEqual(r2.lengthSqr(), lenSqr, tol) &&
+           math::isApproxZero(r0.dot(r1), tol) && math::isApproxZero(r1.dot(r2), tol) &&
+           math::isApproxZero(r2.dot(r0), tol);
 }
 
 inline void Transform::preMult(const Mat4d& m) {
@@ -647,6 +658,37 @@ inline bool Transform::operator==(const Transform& other) const {
         return true;
     return mFrustum.bbox == other.mFrustum.bbox && mFrustum.taper == other.mFrustum.taper &&
            mFrustum.depth == other.mFrustum.depth;
+}
+
+inline bool Transform::isApproxEqual(const Transform& other, double relTol) const {
+    if (isLinear() != other.isLinear() || !(relTol >= 0.0))
+        return false;
+    const Mat4d& a = mWorldFromIndex;
+    const Mat4d& b = other.mWorldFromIndex;
+    double scale = 0.0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            scale = std::max({scale, std::abs(a(i, j)), std::abs(b(i, j))});
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            // Rows 0-2 are the linear part, row 3 the translation; column 3 is (0 0 0 1).
+            const double tol =
+                relTol * (i < 3 ? scale : std::max({scale, std::abs(a(i, j)), std::abs(b(i, j))}));
+            if (!math::isApproxEqual(a(i, j), b(i, j), tol))
+                return false;
+        }
+    }
+    if (isLinear())
+        return true;
+    const auto near = [relTol](double x, double y) {
+        return math::isApproxEqual(x, y, relTol * std::max({1.0, std::abs(x), std::abs(y)}));
+    };
+    for (int i = 0; i < 3; ++i) {
+        if (!near(mFrustum.bbox.min()[i], other.mFrustum.bbox.min()[i]) ||
+            !near(mFrustum.bbox.max()[i], other.mFrustum.bbox.max()[i]))
+            return false;
+    }
+    return near(mFrustum.taper, other.mFrustum.taper) && near(mFrustum.depth, other.mFrustum.depth);
 }
 
 inline std::ostream& operator<<(std::ostream& os, const Transform& xform) {

@@ -66,6 +66,8 @@ template <LevelSetTreeType TreeT>
 void csgDifference(TreeT& a, TreeT& b, bool prune = true, bool threaded = true);
 
 /// The grid forms operate on the grids' trees; transforms and metadata are not changed.
+/// @throw ValueError also when the grids' transforms differ by more than a relative 1e-6
+/// (checkMatchingTransforms()).
 template <LevelSetTreeType TreeT>
 void csgUnion(Grid<TreeT>& a, Grid<TreeT>& b, bool prune = true, bool threaded = true);
 template <LevelSetTreeType TreeT>
@@ -167,6 +169,7 @@ std::unique_ptr<TreeT> csgTreeCopy(CsgKind kind, const TreeT& a, const TreeT& b,
 template <typename TreeT>
 typename Grid<TreeT>::Ptr csgGridCopy(CsgKind kind, const Grid<TreeT>& a, const Grid<TreeT>& b,
                                       bool threaded) {
+    checkMatchingTransforms(a, b, csgName(kind));
     validateLevelSetBackground(a.background(), csgName(kind), "A");
     typename Grid<TreeT>::Ptr result = a.deepCopy();
     CsgRunner<TreeT>::intoCopy(kind, result->tree(), b.tree(), threaded);
@@ -190,15 +193,18 @@ void csgDifference(TreeT& a, TreeT& b, bool prune, bool threaded) {
 
 template <LevelSetTreeType TreeT>
 void csgUnion(Grid<TreeT>& a, Grid<TreeT>& b, bool prune, bool threaded) {
+    checkMatchingTransforms(a, b, "csgUnion");
     detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Union, a.tree(), b.tree(), prune, threaded);
 }
 template <LevelSetTreeType TreeT>
 void csgIntersection(Grid<TreeT>& a, Grid<TreeT>& b, bool prune, bool threaded) {
+    checkMatchingTransforms(a, b, "csgIntersection");
     detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Intersection, a.tree(), b.tree(), prune,
                                       threaded);
 }
 template <LevelSetTreeType TreeT>
 void csgDifference(Grid<TreeT>& a, Grid<TreeT>& b, bool prune, bool threaded) {
+    checkMatchingTransforms(a, b, "csgDifference");
     detail::CsgRunner<TreeT>::inPlace(detail::CsgKind::Difference, a.tree(), b.tree(), prune,
                                       threaded);
 }
