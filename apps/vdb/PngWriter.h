@@ -10,9 +10,8 @@
 
 namespace vdb::app {
 
-/// Writes `image` to `path` as an 8-bit sRGB RGBA PNG. The bytes go to a temporary file in the
-/// same directory, which is renamed to `path` once complete, so an interrupted write never
-/// leaves a partial file at `path`.
+/// Writes `image` to `path` as an 8-bit sRGB RGBA PNG, through util::OutputFile (an atomic
+/// replace of a regular file, links written through, devices written directly).
 /// @throw vdb::IoError naming the file when it cannot be written, or for an empty image.
 void writePng(const std::string& path, const render::Image& image);
 

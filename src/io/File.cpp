@@ -7,6 +7,7 @@
 #include <vdb/io/Codecs.h>
 #include <vdb/io/File.h>
 #include <vdb/io/Format.h>
+#include <vdb/util/OutputFile.h>
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -647,10 +648,7 @@ void writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree,
     w.put(int64_t(0));
     const uint64_t gridPos = base + w.pos();
 
-    uint32_t flags = compression;
-    const GridClass cls = grid.getGridClass();
-    if (cls == GRID_LEVEL_SET || cls == GRID_FOG_VOLUME)
-        flags &= ~uint32_t(COMPRESS_ZIP);
+    const uint32_t flags = gridCompression(grid.getGridClass(), compression);
     w.put(flags);
 
     MetaMap meta = grid;
@@ -695,57 +693,6 @@ void writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree,
     w.patch(offsets + 16, int64_t(endPos));
 }
 
-/// Writes all of `bytes` to `fd`.
-void writeAll(int fd, const std::vector<uint8_t>& bytes, const std::string& path) {
-    size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            throwSystem(path, "cannot write");
-        }
-        done += size_t(n);
-    }
-}
-
-/// A temporary file next to the target, removed unless committed.
-class TempFile {
-public:
-    explicit TempFile(const std::string& target) : mTarget(target) {
-        mPath = target + ".tmp-XXXXXX";
-        mFd = ::mkstemp(mPath.data());
-        if (mFd < 0)
-            throwSystem(target, "cannot create a temporary file next to it");
-        // mkstemp creates 0600 files; give the result the usual permissions.
-        const mode_t mask = ::umask(0);
-        ::umask(mask);
-        ::fchmod(mFd, 0666 & ~mask);
-    }
-    ~TempFile() {
-        if (mFd >= 0)
-            ::close(mFd);
-        if (!mCommitted)
-            ::unlink(mPath.c_str());
-    }
-    int fd() const { return mFd; }
-    void commit() {
-        if (::close(mFd) != 0) {
-            mFd = -1;
-            throwSystem(mTarget, "cannot write");
-        }
-        mFd = -1;
-        if (::rename(mPath.c_str(), mTarget.c_str()) != 0)
-            throwSystem(mTarget, "cannot replace");
-        mCommitted = true;
-    }
-
-private:
-    std::string mTarget, mPath;
-    int mFd = -1;
-    bool mCommitted = false;
-};
-
 }  // namespace
 
 void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
@@ -783,7 +730,7 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         unique.push_back(u);
     }
 
-    TempFile out(mPath);
+    util::OutputFile out(mPath);
     std::vector<uint8_t> bytes;
     {
         ByteWriter w(bytes);
@@ -798,7 +745,7 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         w.put(Int32(grids.size()));
     }
     uint64_t offset = bytes.size();
-    writeAll(out.fd(), bytes, mPath);
+    out.write(bytes);
 
     // Grids that share a tree (and the half setting) become instances of the first.
     std::vector<std::pair<const void*, size_t>> written;
@@ -819,11 +766,11 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         bytes.clear();
         writeGrid(bytes, tree, buffers, offset, *grids[i], *types[i], unique[i], parent,
                   mCompression, mStats);
-        writeAll(out.fd(), bytes, mPath);
-        writeAll(out.fd(), tree, mPath);
+        out.write(bytes);
+        out.write(tree);
         offset += bytes.size() + tree.size();
         for (const auto& block : buffers) {
-            writeAll(out.fd(), block, mPath);
+            out.write(block);
             offset += block.size();
         }
     }
