@@ -60,6 +60,16 @@ struct UnsupportedGrid {
     std::string type;  ///< the type string as stored, e.g. "Tree_ptdataidx32_5_4_3"
 };
 
+/// The COMPRESS_* flags a grid of class `gridClass` is written with when the file asks for
+/// `requested`: ZIP is dropped for level sets and fog volumes, as OpenVDB 10 does (their
+/// values compress little under Deflate and read back slowly); every other flag is kept.
+/// This is also the grid's `file_compression` metadata.
+constexpr uint32_t gridCompression(GridClass gridClass, uint32_t requested) {
+    return (gridClass == GRID_LEVEL_SET || gridClass == GRID_FOG_VOLUME)
+               ? requested & ~uint32_t(COMPRESS_ZIP)
+               : requested;
+}
+
 /// A `.vdb` file on disk.
 /// Threads: a File is not shared between threads while it is opened, closed or written; the
 /// const reading calls (getGrids, readGrid, ...) may run concurrently.
@@ -74,7 +84,7 @@ public:
 
     // ---- Writing
     /// The COMPRESS_* flags grids are written with (default BLOSC | ACTIVE_MASK, as OpenVDB).
-    /// ZIP is dropped for level sets and fog volumes, as OpenVDB does.
+    /// ZIP is dropped for level sets and fog volumes, as OpenVDB does (gridCompression()).
     void setCompression(uint32_t flags) { mCompression = flags; }
     uint32_t compression() const { return mCompression; }
     /// Whether written grids carry the `file_bbox_min/max`, `file_voxel_count`,

@@ -49,6 +49,7 @@
 #include <algorithm>
 #include <cmath>
 #include <concepts>
+#include <string>
 #include <vector>
 
 namespace vdb::tools {
@@ -174,6 +175,9 @@ constexpr bool isTimeDependent() {
 
 template <typename GridT, VelocityField FieldT>
 size_t LevelSetAdvection<GridT, FieldT>::advect(double t0, double t1) {
+    if (!std::isfinite(t0) || !std::isfinite(t1))
+        throw ValueError("LevelSetAdvection::advect: the times must be finite, not " +
+                         std::to_string(t0) + " and " + std::to_string(t1));
     size_t count = 0;
     const bool forward = t0 < t1;
     double t = t0;
@@ -190,6 +194,9 @@ size_t LevelSetAdvection<GridT, FieldT>::advect(double t0, double t1) {
 
 template <typename GridT, VelocityField FieldT>
 double LevelSetAdvection<GridT, FieldT>::step(double t, double maxDt, bool rebuild) {
+    if (!std::isfinite(t) || !std::isfinite(maxDt))
+        throw ValueError("LevelSetAdvection::step: the time and the step must be finite, not " +
+                         std::to_string(t) + " and " + std::to_string(maxDt));
     if (maxDt == 0.0)
         return 0.0;
     const bool backward = maxDt < 0.0;
@@ -244,7 +251,8 @@ auto LevelSetAdvection<GridT, FieldT>::sampleField(double time, bool backward, b
         mVelocity.resize(mOffsets.back());
     const math::Transform& xform = mTracker.grid().transform();
     const ValueType sign = backward ? ValueType(-1) : ValueType(1);
-    return util::parallelReduce(
+    // A non-finite velocity anywhere is reported instead of spreading NaN through the band.
+    const ValueType maxV2 = util::parallelReduce(
         leaves.leafCount(), ValueType(0),
         [&](size_t begin, size_t end) {
             auto sampler = detail::makeFieldSampler(*mField);
@@ -259,12 +267,20 @@ auto LevelSetAdvection<GridT, FieldT>::sampleField(double time, bool backward, b
                                          sign * ValueType(v[2]));
                     if (store)
                         mVelocity[n] = vel;
-                    maxV2 = std::max(maxV2, vel.lengthSqr());
+                    const ValueType v2 = vel.lengthSqr();
+                    // NaN wins the maximum, so that the check below sees it.
+                    maxV2 = v2 > maxV2 || v2 != v2 ? v2 : maxV2;
                 }
             }
             return maxV2;
         },
-        [](ValueType a, ValueType b) { return std::max(a, b); }, isThreaded(), 16);
+        [](ValueType a, ValueType b) { return b > a || b != b ? b : a; }, isThreaded(), 16);
+    if (!std::isfinite(maxV2))
+        throw ValueError(
+            "LevelSetAdvection: the velocity field is not finite (NaN, infinite or "
+            "too fast for the value type) on the band at time " +
+            std::to_string(time));
+    return maxV2;
 }
 
 template <typename GridT, VelocityField FieldT>

@@ -18,6 +18,7 @@
 
 #pragma once
 
+#include <vdb/Exceptions.h>
 #include <vdb/Grid.h>
 #include <vdb/Types.h>
 #include <vdb/math/Stencils.h>
@@ -66,7 +67,12 @@ public:
 
     static constexpr bool TIME_DEPENDENT = false;
 
-    explicit ConstantVelocityField(const VectorType& velocity) : mVelocity(velocity) {}
+    /// @throw ValueError for a velocity that is not finite.
+    explicit ConstantVelocityField(const VectorType& velocity) : mVelocity(velocity) {
+        if (!std::isfinite(velocity[0]) || !std::isfinite(velocity[1]) ||
+            !std::isfinite(velocity[2]))
+            throw ValueError("ConstantVelocityField: the velocity must be finite");
+    }
     VectorType operator()(const Vec3d&, double) const { return mVelocity; }
     const VectorType& velocity() const { return mVelocity; }
 
