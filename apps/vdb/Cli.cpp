@@ -3,6 +3,8 @@
 #include "Cli.h"
 
 #include <vdb/Exceptions.h>
+#include <vdb/io/Format.h>
+#include <vdb/util/OutputFile.h>
 
 #include <dirent.h>
 #include <pthread.h>
@@ -11,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <mutex>
 #include <set>
@@ -18,10 +21,105 @@
 
 namespace vdb::app {
 
-void Context::applyThreads() {
+namespace {
+
+// The limits of this run (one command per process), set by Context::apply().
+constexpr double kDefaultMaxMemory = 2e9;
+constexpr uint64_t kDefaultMaxSteps = 100'000;
+double sMaxMemory = kDefaultMaxMemory;
+uint64_t sMaxSteps = kDefaultMaxSteps;
+
+/// Parses "2G", "512MB", "1.5GiB", "3000000000": a positive size in bytes (K, M, G, T are
+/// powers of 1000, Ki, Mi, Gi, Ti of 1024; a trailing B is optional).
+double parseByteSize(const std::string& text, const std::string& source) {
+    size_t used = 0;
+    double value = 0;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    std::string unit = text.substr(used);
+    if (!unit.empty() && (unit.back() == 'B' || unit.back() == 'b'))
+        unit.pop_back();
+    const std::pair<const char*, double> units[] = {{"", 1},
+                                                    {"K", 1e3},
+                                                    {"k", 1e3},
+                                                    {"M", 1e6},
+                                                    {"G", 1e9},
+                                                    {"T", 1e12},
+                                                    {"Ki", 1024.0},
+                                                    {"Mi", 1048576.0},
+                                                    {"Gi", 1073741824.0},
+                                                    {"Ti", 1099511627776.0}};
+    for (const auto& [name, factor] : units) {
+        if (used > 0 && unit == name && std::isfinite(value) && value > 0)
+            return value * factor;
+    }
+    throw UsageError(source + " must be a positive size such as 4G, 512M or 3000000000, not \"" +
+                     text + "\"");
+}
+
+}  // namespace
+
+void Context::apply() {
     if (threads > 0)
         threadLimit = std::make_unique<tbb::global_control>(
             tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+    if (!maxMemory.empty()) {
+        sMaxMemory = parseByteSize(maxMemory, "--max-memory");
+    } else if (const char* env = std::getenv("VDB_MAX_MEMORY"); env && *env) {
+        sMaxMemory = parseByteSize(env, "VDB_MAX_MEMORY");
+    }
+    if (maxSteps > 0)
+        sMaxSteps = maxSteps;
+}
+
+double memoryLimit() {
+    return sMaxMemory;
+}
+
+void checkMemoryEstimate(double bytes, const std::string& what) {
+    if (bytes <= sMaxMemory)
+        return;
+    throw UsageError(what + " would need about " + bytesText(bytes) +
+                     " of memory, over the limit of " + bytesText(sMaxMemory) +
+                     " (raise it with --max-memory SIZE or VDB_MAX_MEMORY)");
+}
+
+double levelSetBytes(double areaVoxels, double halfWidth) {
+    // The band's leaves form a shell about 2 halfWidth + 7 voxels thick (leaves straddle it),
+    // 512 voxels each; at least one leaf.
+    const double leaves = std::max(1.0, areaVoxels * (2.0 * halfWidth + 7.0) / 512.0);
+    return leaves * double(sizeof(FloatTree::LeafNodeType) + 512 * sizeof(float));
+}
+
+void checkStepEstimate(double steps, const std::string& what) {
+    if (steps <= double(sMaxSteps))
+        return;
+    char estimate[32];
+    std::snprintf(estimate, sizeof estimate, steps < 1e15 ? "%.0f" : "%.2g", steps);
+    throw UsageError(what + " would take about " +
+                     (steps < 1e15 ? withCommas(uint64_t(steps)) : std::string(estimate)) +
+                     " steps, over the limit of " + withCommas(sMaxSteps) +
+                     " (raise it with --max-steps N)");
+}
+
+void checkIndexRange(double lo, double hi, const std::string& what) {
+    constexpr double kMax = 2147483647.0;
+    if (lo >= -kMax && hi <= kMax)
+        return;
+    char range[96];
+    std::snprintf(range, sizeof range, "%.4g to %.4g", lo, hi);
+    throw UsageError(what + " spans index coordinates " + range +
+                     " voxels, beyond the index space of -2^31 to 2^31 - 1 voxels (use a "
+                     "larger voxel size, or move the data towards the origin)");
+}
+
+void addStepLimitOption(CLI::App& cmd, Context& ctx) {
+    cmd.add_option("--max-steps", ctx.maxSteps,
+                   "Refuse work estimated to take more steps than this (default 100,000)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 40));
 }
 
 CLI::App* addCommand(CLI::App& app, Context& ctx, std::string name, std::string description,
@@ -30,23 +128,87 @@ CLI::App* addCommand(CLI::App& app, Context& ctx, std::string name, std::string 
     cmd->add_option("--threads", ctx.threads, "Worker threads (default: every core)")
         ->check(CLI::Range(1, 4096));
     cmd->add_flag("-q,--quiet", ctx.quiet, "No progress display and no report lines");
+    cmd->add_option("--max-memory", ctx.maxMemory,
+                    "Refuse work estimated to need more memory than this, e.g. 8G (default: "
+                    "VDB_MAX_MEMORY, else 2G)");
     if (reportsFigures)
         cmd->add_flag("--json", ctx.json, "Print the figures as one JSON document");
     ctx.commands.push_back({cmd, std::move(run)});
     return cmd;
 }
 
+namespace {
+
+/// The number in `text`, or an error message in `error`.
+bool parseNumber(const std::string& text, double& value, std::string& error) {
+    if (!CLI::detail::lexical_cast(text, value)) {
+        error = "\"" + text + "\" is not a number";
+        return false;
+    }
+    if (!std::isfinite(value)) {
+        error = "must be a finite number, not " + text;
+        return false;
+    }
+    return true;
+}
+
+}  // namespace
+
 const CLI::Validator& positive() {
     static const CLI::Validator check(
         [](const std::string& text) -> std::string {
             double value = 0;
-            if (!CLI::detail::lexical_cast(text, value))
-                return "\"" + text + "\" is not a number";
-            return value > 0 && std::isfinite(value) ? ""
-                                                     : "must be a positive number, not " + text;
+            std::string error;
+            if (!parseNumber(text, value, error))
+                return error;
+            return value > 0 ? "" : "must be a positive number, not " + text;
         },
         "POSITIVE");
     return check;
+}
+
+const CLI::Validator& finite() {
+    static const CLI::Validator check(
+        [](const std::string& text) -> std::string {
+            double value = 0;
+            std::string error;
+            return parseNumber(text, value, error) ? "" : error;
+        },
+        "FINITE");
+    return check;
+}
+
+CLI::Validator finiteRange(double lo, double hi) {
+    char range[64];
+    std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+    return CLI::Validator(
+        [lo, hi, bounds = std::string(range)](const std::string& text) -> std::string {
+            double value = 0;
+            std::string error;
+            if (!parseNumber(text, value, error))
+                return error;
+            return value >= lo && value <= hi ? "" : "must be within " + bounds + ", not " + text;
+        },
+        std::string("NUMBER in ") + range);
+}
+
+void appendQuoted(std::string& list, const std::string& name, const std::string& detail) {
+    if (!list.empty())
+        list += ", ";
+    list += '"';
+    list += name;
+    list += '"';
+    if (!detail.empty()) {
+        list += " (";
+        list += detail;
+        list += ')';
+    }
+}
+
+std::string numberText(double value) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", value);
+    return buf;
 }
 
 std::string withCommas(uint64_t n) {
@@ -61,16 +223,22 @@ std::string withCommas(uint64_t n) {
     return out;
 }
 
-std::string bytesText(uint64_t bytes) {
-    char buf[32];
+std::string bytesText(double bytes) {
+    char buf[48];
+    if (std::isnan(bytes) || std::isinf(bytes))
+        return "infinitely many bytes";
     if (bytes < 1000)
-        std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(bytes));
-    else if (bytes < 1000ull * 1000)
+        std::snprintf(buf, sizeof buf, "%.0f B", bytes);
+    else if (bytes < 1e6)
         std::snprintf(buf, sizeof buf, "%.1f kB", bytes / 1e3);
-    else if (bytes < 1000ull * 1000 * 1000)
+    else if (bytes < 1e9)
         std::snprintf(buf, sizeof buf, "%.2f MB", bytes / 1e6);
-    else
+    else if (bytes < 1e12)
         std::snprintf(buf, sizeof buf, "%.2f GB", bytes / 1e9);
+    else if (bytes < 1e15)
+        std::snprintf(buf, sizeof buf, "%.2f TB", bytes / 1e12);
+    else
+        std::snprintf(buf, sizeof buf, "%.2g B", bytes);
     return buf;
 }
 
@@ -84,13 +252,14 @@ std::string secondsText(double seconds) {
     return buf;
 }
 
-void checkMemoryEstimate(double bytes, const std::string& what) {
-    const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
-                            static_cast<double>(::sysconf(_SC_PAGESIZE));
-    if (physical > 0 && bytes > physical)
-        throw UsageError(what + " would need about " + bytesText(static_cast<uint64_t>(bytes)) +
-                         " of memory; this machine has " +
-                         bytesText(static_cast<uint64_t>(physical)));
+void requireMatchingTransforms(const GridBase& a, const std::string& pathA, const GridBase& b,
+                               const std::string& pathB, const std::string& operation) {
+    try {
+        checkMatchingTransforms(a, b, operation);
+    } catch (const ValueError& e) {
+        throw UsageError(std::string(e.what()) + " (grid \"" + a.getName() + "\" of " + pathA +
+                         ", grid \"" + b.getName() + "\" of " + pathB + ")");
+    }
 }
 
 // ---- Report
@@ -123,11 +292,24 @@ void Report::finish() {
 
 // ---- Files
 
-GridPtrVec readGrids(const std::string& path, const Context& ctx) {
+void warnAboutFileVersion(const io::File& file, const Context& ctx) {
+    if (file.fileVersion() > io::NEWEST_FILE_VERSION && !ctx.quiet)
+        std::fprintf(stderr,
+                     "vdb: warning: %s has file format version %u, newer than the newest this "
+                     "library knows (%u); it is read as version %u and may be misread\n",
+                     file.filename().c_str(), file.fileVersion(), io::NEWEST_FILE_VERSION,
+                     io::NEWEST_FILE_VERSION);
+}
+
+GridPtrVec readGrids(const std::string& path, const Context& ctx,
+                     std::vector<io::UnsupportedGrid>* unsupported) {
     io::File file(path);
     file.open();
+    warnAboutFileVersion(file, ctx);
     GridPtrVec grids = *file.getGrids();
-    if (!ctx.quiet)
+    if (unsupported)
+        *unsupported = file.unsupportedGrids();
+    else if (!ctx.quiet)
         for (const auto& skipped : file.unsupportedGrids())
             std::fprintf(stderr, "vdb: warning: %s: skipping grid \"%s\" of unsupported type %s\n",
                          path.c_str(), skipped.name.c_str(), skipped.type.c_str());
@@ -144,7 +326,7 @@ GridPtrVec selectGrids(const GridPtrVec& grids, const std::string& name, const s
             throw UsageError(path + " holds no grid this library can read");
         std::string names;
         for (const auto& grid : grids)
-            names += (names.empty() ? "" : ", ") + ("\"" + grid->getName() + "\"");
+            appendQuoted(names, grid->getName());
         throw UsageError(path + " has no grid named \"" + name + "\"" +
                          (names.empty() ? "" : " (it has " + names + ")"));
     }
@@ -152,18 +334,11 @@ GridPtrVec selectGrids(const GridPtrVec& grids, const std::string& name, const s
 }
 
 void checkOutputPath(const std::string& path) {
-    namespace fs = std::filesystem;
-    if (path.empty())
-        throw UsageError("the output path is empty");
-    const fs::path p(path);
-    std::error_code ec;
-    if (fs::is_directory(p, ec))
-        throw UsageError("output " + path + " is a folder");
-    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-    if (!fs::is_directory(dir, ec))
-        throw UsageError("cannot write " + path + ": folder " + dir.string() + " does not exist");
-    if (::access(dir.c_str(), W_OK) != 0)
-        throw UsageError("cannot write " + path + ": folder " + dir.string() + " is not writable");
+    try {
+        util::checkOutputFile(path);
+    } catch (const IoError& e) {
+        throw UsageError(e.what());
+    }
 }
 
 uint32_t parseCompression(const std::string& name) {
@@ -178,47 +353,7 @@ uint32_t parseCompression(const std::string& name) {
     throw UsageError("unknown compression \"" + name + "\" (use none, zip, blosc or raw)");
 }
 
-namespace {
-
-// Outputs being written, for the interrupt thread to clean up after.
-std::mutex sOutputsMutex;
-std::set<std::string> sOutputs;
-
-struct WatchedOutput {
-    explicit WatchedOutput(const std::string& path) : mPath(path) {
-        std::lock_guard lock(sOutputsMutex);
-        sOutputs.insert(mPath);
-    }
-    ~WatchedOutput() {
-        std::lock_guard lock(sOutputsMutex);
-        sOutputs.erase(mPath);
-    }
-    std::string mPath;
-};
-
-// Removes "<path>.tmp-*", the temporary files io::File writes before renaming into place.
-void removeTemporaries(const std::string& path) {
-    namespace fs = std::filesystem;
-    const fs::path p(path);
-    const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-    const std::string prefix = p.filename().string() + ".tmp-";
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (name.compare(0, prefix.size(), prefix) == 0)
-            fs::remove(entry.path(), ec);
-    }
-}
-
-}  // namespace
-
-void writeWatched(const std::string& path, const std::function<void()>& write) {
-    WatchedOutput watch(path);
-    write();
-}
-
 void writeGrids(const std::string& path, const GridPtrVec& grids, uint32_t compression) {
-    WatchedOutput watch(path);
     io::File file(path);
     file.setCompression(compression);
     file.write(grids);
@@ -258,11 +393,7 @@ void installInterruptHandler() {
     std::thread([set] {
         int sig = 0;
         sigwait(&set, &sig);
-        {
-            std::lock_guard lock(sOutputsMutex);
-            for (const auto& path : sOutputs)
-                removeTemporaries(path);
-        }
+        util::removeOutputTemporaries();
         static const char kMessage[] = "\nvdb: cancelled\n";
         [[maybe_unused]] auto n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
         ::_exit(128 + sig);

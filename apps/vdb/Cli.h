@@ -46,9 +46,12 @@ struct Context {
     };
     std::vector<Command> commands;
     std::unique_ptr<tbb::global_control> threadLimit;
+    std::string maxMemory;  ///< --max-memory as given (empty: VDB_MAX_MEMORY, else 2 GB)
+    uint64_t maxSteps = 0;  ///< --max-steps (0: the default of 100,000)
 
-    /// Applies --threads; called once, before the chosen subcommand runs.
-    void applyThreads();
+    /// Applies --threads and the limits of --max-memory and --max-steps; called once, before
+    /// the chosen subcommand runs. Throws UsageError for a malformed size.
+    void apply();
     /// Whether report lines go to stdout (neither --quiet nor --json).
     bool verbose() const { return !quiet && !json; }
 };
@@ -58,13 +61,43 @@ struct Context {
 CLI::App* addCommand(CLI::App& app, Context& ctx, std::string name, std::string description,
                      bool reportsFigures, std::function<void()> run);
 
-/// A CLI11 check that a number is above zero ("must be positive").
+/// A CLI11 check that a number is finite and above zero ("must be positive").
 const CLI::Validator& positive();
+/// A CLI11 check that a number (each number, for a list) is finite: not NaN, not infinite.
+const CLI::Validator& finite();
+/// A CLI11 check that a number is finite and within [lo, hi], naming the value and the range.
+CLI::Validator finiteRange(double lo, double hi);
 
+/// Adds --max-steps to a command whose work is a number of steps taken from its arguments.
+void addStepLimitOption(CLI::App& cmd, Context& ctx);
+
+/// The memory an operation may use without --max-memory (2 GB, or VDB_MAX_MEMORY).
+double memoryLimit();
+/// Throws UsageError when an operation estimated to need `bytes` of memory (any finite or
+/// infinite estimate) is over the limit, naming `what`, the estimate with its unit, the limit
+/// and how to raise it.
+void checkMemoryEstimate(double bytes, const std::string& what);
+/// The memory of a float narrow-band level set whose surface has `areaVoxels` square voxels,
+/// `halfWidth` voxels on each side: the leaves that cover the band, at about 2.2 kB each.
+double levelSetBytes(double areaVoxels, double halfWidth);
+/// Throws UsageError when an operation estimated to take `steps` steps is over the step
+/// limit (--max-steps, default 100,000), naming `what` and the estimate.
+void checkStepEstimate(double steps, const std::string& what);
+/// Throws UsageError unless the index-space coordinate range [lo, hi] (in voxels) lies within
+/// the 32-bit index space, naming `what` and the world-space values behind it.
+void checkIndexRange(double lo, double hi, const std::string& what);
+
+/// Appends `name` in quotes to the comma-separated list `list`, with `detail` in parentheses
+/// when given: `"density", "vel" (vec3s)`.
+void appendQuoted(std::string& list, const std::string& name, const std::string& detail = {});
+
+/// Formats a number with up to 6 significant digits ("0.0125", "1e-300", "2.5e+07").
+std::string numberText(double value);
 /// Formats a count with thousands separators ("794,720").
 std::string withCommas(uint64_t n);
-/// Formats a byte count ("3.28 MB"; decimal units, as file managers show them).
-std::string bytesText(uint64_t bytes);
+/// Formats a byte count ("3.28 MB"; decimal units, as file managers show them; "1.2e+20 B" for
+/// counts beyond petabytes, "infinitely many bytes" for an infinite estimate).
+std::string bytesText(double bytes);
 /// Formats seconds ("0.12 s", "2 min 03 s").
 std::string secondsText(double seconds);
 
@@ -111,36 +144,37 @@ private:
     std::vector<std::pair<std::string, double>> mSteps;
 };
 
-/// Throws UsageError when an operation estimated to need `bytes` of memory would not fit in
-/// this machine's physical memory, naming `what`.
-void checkMemoryEstimate(double bytes, const std::string& what);
+/// Throws UsageError unless grids `a` (of file `pathA`) and `b` line up: transforms equal to a
+/// relative 1e-6 (Transform::isApproxEqual), so a voxel size rounded through float on one side
+/// still matches. The message names both transforms and what `operation` needs.
+void requireMatchingTransforms(const GridBase& a, const std::string& pathA, const GridBase& b,
+                               const std::string& pathB, const std::string& operation);
 
 // ---- Files
 
-/// Reads every grid of the `.vdb` file `path`; grids this library cannot read are skipped and
-/// named in a warning unless quiet.
-GridPtrVec readGrids(const std::string& path, const Context& ctx);
+/// Warns on stderr (unless quiet) when `file` (opened) has a format version newer than this
+/// library knows: it is read as the newest known version, which may be wrong.
+void warnAboutFileVersion(const io::File& file, const Context& ctx);
+
+/// Reads every grid of the `.vdb` file `path`. Grids this library cannot read are skipped;
+/// with `unsupported` they are listed there, else named in a warning unless quiet.
+GridPtrVec readGrids(const std::string& path, const Context& ctx,
+                     std::vector<io::UnsupportedGrid>* unsupported = nullptr);
 
 /// The grids of `grids` named `name`, or all of them when `name` is empty. Throws UsageError
 /// naming the file when nothing matches.
 GridPtrVec selectGrids(const GridPtrVec& grids, const std::string& name, const std::string& path);
 
-/// Checks, before any work starts, that `path` can be created: its folder exists and it does
-/// not name a folder. Throws UsageError otherwise.
+/// Checks, before any work starts, that `path` could be written (util::checkOutputFile):
+/// throws UsageError with the reason otherwise. Creates nothing.
 void checkOutputPath(const std::string& path);
 
 /// Parses a --compression value ("none", "zip", "blosc", each with active-mask compression, or
 /// "raw" for none at all) into COMPRESS_* flags.
 uint32_t parseCompression(const std::string& name);
 
-/// Writes `grids` to `path` atomically (a temporary file renamed into place), removing the
-/// temporary file if the user presses Ctrl-C meanwhile.
+/// Writes `grids` to `path` (io::File, through util::OutputFile).
 void writeGrids(const std::string& path, const GridPtrVec& grids, uint32_t compression);
-
-/// Runs `write()`, which writes `path` through a temporary file "<path>.tmp-*" renamed into
-/// place (as io::File and writePng do), removing that temporary file if the user presses
-/// Ctrl-C meanwhile.
-void writeWatched(const std::string& path, const std::function<void()>& write);
 
 /// The output options of commands that write a `.vdb` file.
 struct OutputArgs {
@@ -158,8 +192,9 @@ void writeOutput(Report& report, const OutputArgs& out, const GridPtrVec& grids)
 // ---- Ctrl-C
 
 /// Blocks SIGINT and SIGTERM in every thread and starts a thread that, on either signal,
-/// removes the temporary files of outputs being written and exits with status 130. Call first
-/// thing in main, before any other thread starts.
+/// removes the temporary files of outputs being written (util::removeOutputTemporaries) and
+/// exits with status 128 + the signal. Call first thing in main, before any other thread
+/// starts.
 void installInterruptHandler();
 
 // ---- Dispatch on value types

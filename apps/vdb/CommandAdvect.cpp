@@ -56,7 +56,7 @@ void addSchemeOptions(CLI::App& cmd, SchemeArgs& s) {
         ->check(CLI::IsMember({"rk1", "rk2", "rk3"}))
         ->capture_default_str();
     cmd.add_option("--cfl", s.cfl, "CFL number of the advection steps")
-        ->check(CLI::Range(0.01, 1.0))
+        ->check(finiteRange(0.01, 1.0))
         ->capture_default_str();
 }
 
@@ -138,11 +138,19 @@ void addAdvectCommand(CLI::App& app, Context& ctx) {
                 throw UsageError("grid \"" + base->getName() + "\" has type " + base->type() +
                                  "; advect needs a float level set");
             report.json().key("input").value(a.input).key("field").value(a.field);
+            // Steps: the distance the fastest velocity covers over the run, in CFL-sized steps.
+            const double dx = grid->transform().voxelSize().minComponent();
+            const auto checkSteps = [&](double speed) {
+                checkStepEstimate(std::abs(a.time) * speed / (a.schemes.cfl * dx),
+                                  "advecting for " + numberText(a.time) + " time units");
+            };
             if (a.field == "enright") {
+                checkSteps(1.1);  // the band's largest speed over the field's period, about 1.1
                 const tools::EnrightField<float> field;
                 advectFrames<FloatGrid>(report, grid, field, a.schemes, a.start, a.start + a.time,
                                         a.frames, a.out);
             } else if (a.field == "constant") {
+                checkSteps(Vec3d(a.velocity[0], a.velocity[1], a.velocity[2]).length());
                 const tools::ConstantVelocityField<float> field(
                     Vec3f(float(a.velocity[0]), float(a.velocity[1]), float(a.velocity[2])));
                 advectFrames<FloatGrid>(report, grid, field, a.schemes, a.start, a.start + a.time,
@@ -158,6 +166,18 @@ void addAdvectCommand(CLI::App& app, Context& ctx) {
                         velocity = gridPtrCast<Vec3SGrid>(g);
                 if (!velocity)
                     throw UsageError(a.velocityFile + " has no vec3s grid for the velocity");
+                double speed = double(velocity->background().length());
+                for (auto it = velocity->cbeginValueOn(); it; ++it) {
+                    const double v = double(it.getValue().length());
+                    if (!std::isfinite(v))
+                        throw UsageError("the velocity grid \"" + velocity->getName() + "\" of " +
+                                         a.velocityFile + " holds a non-finite value at " +
+                                         std::to_string(it.getCoord()[0]) + "," +
+                                         std::to_string(it.getCoord()[1]) + "," +
+                                         std::to_string(it.getCoord()[2]));
+                    speed = std::max(speed, v);
+                }
+                checkSteps(speed);
                 const tools::DiscreteField<Vec3SGrid> field(*velocity);
                 advectFrames<FloatGrid>(report, grid, field, a.schemes, a.start, a.start + a.time,
                                         a.frames, a.out);
@@ -173,19 +193,23 @@ void addAdvectCommand(CLI::App& app, Context& ctx) {
     cmd->add_option("--velocity", args->velocity, "Constant velocity x,y,z (world units)")
         ->expected(3)
         ->delimiter(',')
+        ->check(finite())
         ->capture_default_str();
     cmd->add_option("--velocity-file", args->velocityFile,
                     "A .vdb file with a vec3s velocity grid");
     cmd->add_option("--velocity-grid", args->velocityGrid, "Its grid name (default: the first)");
-    cmd->add_option("--start", args->start, "Start time")->capture_default_str();
+    cmd->add_option("--start", args->start, "Start time")
+        ->check(finiteRange(-1e9, 1e9))
+        ->capture_default_str();
     cmd->add_option("-t,--time", args->time, "Time to advect for")
-        ->check(CLI::Range(-1e6, 1e6))
+        ->check(finiteRange(-1e6, 1e6))
         ->capture_default_str();
     cmd->add_option("--frames", args->frames,
                     "Write this many frames (OUT with '#' or _NNNN as the frame number)")
         ->check(CLI::Range(1, 100000))
         ->capture_default_str();
     addSchemeOptions(*cmd, args->schemes);
+    addStepLimitOption(*cmd, ctx);
     cmd->footer(
         "Examples:\n  vdb advect sphere.vdb -o moved.vdb --field constant --velocity "
         "1,0,0 --time 0.5\n  vdb advect enright.vdb -o frame_#.vdb --field enright "
@@ -210,9 +234,13 @@ void addEnrightCommand(CLI::App& app, Context& ctx) {
             const Args& a = *args;
             if (!a.framesOut.empty())
                 checkOutputPath(framePath(a.framesOut, 1, a.frames));
+            // The sphere's band in three time levels plus the rebuild's copies; its steps as
+            // in advect.
             const double r = 0.15 * a.resolution;
-            checkMemoryEstimate(4 * 4.5 * 4 * 3.14159 * r * r * 2 * a.halfWidth,
+            checkMemoryEstimate(4.0 * levelSetBytes(4.0 * 3.14159265 * r * r, a.halfWidth),
                                 "the Enright test at this resolution");
+            checkStepEstimate(a.time * 1.1 * a.resolution / a.schemes.cfl,
+                              "the Enright test over " + numberText(a.time) + " time units");
             tools::EnrightTestOptions options;
             options.resolution = a.resolution;
             options.frames = a.frames;
@@ -276,7 +304,7 @@ void addEnrightCommand(CLI::App& app, Context& ctx) {
         ->check(positive())
         ->capture_default_str();
     cmd->add_option("-w,--half-width", args->halfWidth, "Half the band width, in voxels")
-        ->check(CLI::Range(2.0f, 100.0f))
+        ->check(finiteRange(2.0, 100.0))
         ->capture_default_str();
     cmd->add_option("--write-frames", args->framesOut,
                     "Write each frame to this .vdb path ('#' or _NNNN: the frame number)");
@@ -284,6 +312,7 @@ void addEnrightCommand(CLI::App& app, Context& ctx) {
         ->check(CLI::IsMember({"none", "zip", "blosc", "raw"}))
         ->capture_default_str();
     addSchemeOptions(*cmd, args->schemes);
+    addStepLimitOption(*cmd, ctx);
     cmd->footer(
         "Examples:\n  vdb enright --resolution 128\n"
         "  vdb enright -r 256 --frames 30 --write-frames enright_#.vdb --json");

@@ -48,10 +48,7 @@ void addCsgCommand(CLI::App& app, Context& ctx) {
                 throw UsageError("grid \"" + lhs->getName() + "\" of " + a.a + " is " +
                                  lhs->type() + " but grid \"" + rhs->getName() + "\" of " + a.b +
                                  " is " + rhs->type() + "; both must have the same type");
-            if (!(lhs->transform() == rhs->transform()))
-                throw UsageError("the grids of " + a.a + " and " + a.b +
-                                 " have different transforms (voxel sizes or placement); "
-                                 "CSG needs the same index space");
+            requireMatchingTransforms(*lhs, a.a, *rhs, a.b, "CSG");
             withLevelSetGrid(lhs, [&](auto& g) {
                 auto& other = *gridPtrCast<std::decay_t<decltype(g)>>(rhs);
                 report.step("csg " + a.operation, [&] {

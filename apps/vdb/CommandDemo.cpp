@@ -81,6 +81,9 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             const auto start = std::chrono::steady_clock::now();
             const double voxelSize = 1.0 / a.resolution;
             const float halfWidth = 3.0f;
+            checkMemoryEstimate(double(a.spheres) * (sizeof(Vec3s) + sizeof(float)) * 2.0 +
+                                    double(a.width) * double(a.height) * 2.0 * sizeof(render::Rgba),
+                                "the demo's spheres and picture");
             Report report(ctx);
 
             // 1. The torus-knot-helix (paper Fig. 8) in the unit box: spheres of radius 0.005,
@@ -124,12 +127,7 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             report.note("  union: " + withCommas(both->activeVoxelCount()) + " active voxels, " +
                         withCommas(both->leafCount()) + " leaves");
 
-            // 4. The .vdb file: the three grids, blosc and active-mask compression.
-            writeGrids(vdbPath, {helix, surface, both},
-                       io::COMPRESS_BLOSC | io::COMPRESS_ACTIVE_MASK);
-            report.note("  wrote " + vdbPath + " (" + bytesText(fs::file_size(vdbPath)) + ")");
-
-            // 5. A picture of the union.
+            // 4. A picture of the union, made before anything is written.
             const CoordBBox bbox = both->evalActiveVoxelBoundingBox();
             const BBoxd worldBox = both->transform().indexToWorld(bbox);
             const auto camera = render::PerspectiveCamera::frame(
@@ -140,8 +138,12 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             const render::Image image =
                 report.step("ray-trace " + std::to_string(a.width) + "x" + std::to_string(a.height),
                             [&] { return render::renderLevelSet(*both, camera, settings); });
-            report.step("write " + pngPath,
-                        [&] { writeWatched(pngPath, [&] { writePng(pngPath, image); }); });
+
+            // 5. The .vdb file (the three grids, blosc and active-mask compression) and the PNG.
+            writeGrids(vdbPath, {helix, surface, both},
+                       io::COMPRESS_BLOSC | io::COMPRESS_ACTIVE_MASK);
+            report.note("  wrote " + vdbPath + " (" + bytesText(fs::file_size(vdbPath)) + ")");
+            report.step("write " + pngPath, [&] { writePng(pngPath, image); });
 
             const double total =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -168,6 +168,7 @@ void addInfoCommand(CLI::App& app, Context& ctx) {
                     file.open();
                     return *file.getGrids();
                 });
+                warnAboutFileVersion(file, ctx);
                 const MetaMap fileMeta = file.getMetadata();
                 std::error_code ec;
                 const auto size = std::filesystem::file_size(path, ec);

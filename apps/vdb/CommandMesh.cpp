@@ -79,10 +79,14 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
                     throw UsageError(a.input + " is flat in every direction; give --voxel-size");
                 voxelSize = extent / a.resolution;
             }
+            for (int i = 0; i < 3; ++i)
+                checkIndexRange(box.min()[i] / voxelSize - a.halfWidth,
+                                box.max()[i] / voxelSize + a.halfWidth,
+                                a.input + " at voxel size " + numberText(voxelSize));
             report.note("  " + withCommas(mesh.points.size()) + " points, " +
                         withCommas(mesh.triangles.size()) + " triangles, " +
                         withCommas(mesh.quads.size()) + " quads; voxel size " +
-                        std::to_string(voxelSize) + " (" +
+                        numberText(voxelSize) + " (" +
                         std::to_string(int(std::ceil(extent / voxelSize))) +
                         " voxels across the largest side)");
             const tools::MeshSign sign = a.sign == "robust"     ? tools::MeshSign::WindingNumber
@@ -119,7 +123,7 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
     size->excludes(res);
     res->excludes(size);
     cmd->add_option("-w,--half-width", args->halfWidth, "Half the band width, in voxels")
-        ->check(CLI::Range(1.0f, 1000.0f))
+        ->check(finiteRange(1.0, 1000.0))
         ->capture_default_str();
     cmd->add_option("--sign", args->sign,
                     "flood: closed meshes (parity and flood fill); robust: meshes with holes "

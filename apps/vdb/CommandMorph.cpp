@@ -25,18 +25,23 @@ void addEditOptions(CLI::App& cmd, EditArgs& args) {
     addOutputOptions(cmd, args.out);
 }
 
-/// Reads the input, calls `edit(report, grid)` on the selected grids, writes every grid.
+/// Reads the input, calls `edit(report, grid)` on the selected grids (it returns whether it
+/// applied to the grid), writes every grid. When no grid was edited, throws UsageError with
+/// `noneEdited` (if given) before anything is written.
 template <typename EditF>
-void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit) {
+void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit,
+             const std::string& noneEdited = {}) {
     checkOutputPath(args.out.path);
     Report report(ctx);
     const GridPtrVec grids =
         report.step("read " + args.input, [&] { return readGrids(args.input, ctx); });
     report.json().key("input").value(args.input).key("grids").beginArray();
+    size_t edited = 0;
     for (const auto& grid : selectGrids(grids, args.grid, args.input)) {
         const Index64 before = grid->activeVoxelCount();
         if (!edit(report, grid))
             continue;
+        ++edited;
         const Index64 after = grid->activeVoxelCount();
         report.note("  grid \"" + grid->getName() + "\": " + withCommas(before) + " -> " +
                     withCommas(after) + " active voxels, " + withCommas(grid->leafCount()) +
@@ -54,6 +59,8 @@ void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit) {
             .endObject();
     }
     report.json().endArray();
+    if (edited == 0 && !noneEdited.empty())
+        throw UsageError(noneEdited);
     writeOutput(report, args.out, grids);
     report.finish();
 }
@@ -64,6 +71,23 @@ tools::NearestNeighbors parseNeighbors(const std::string& name) {
     if (name == "edge" || name == "18")
         return tools::NN_FACE_EDGE;
     return tools::NN_FACE_EDGE_VERTEX;
+}
+
+/// An upper estimate of the voxels a dilation by `n` leaves active: every active voxel grown
+/// by the neighbourhood's ball of radius n (an octahedron, a cube with its corners cut, or a
+/// cube), and at most the active bounding box grown by n on every side.
+double dilatedVoxels(const GridBase& grid, int n, tools::NearestNeighbors nn) {
+    const CoordBBox bbox = grid.evalActiveVoxelBoundingBox();
+    if (bbox.empty())
+        return 0.0;
+    double box = 1.0;
+    for (const Int64 e : bbox.extents())
+        box *= double(e) + 2.0 * n;
+    const double d = 2.0 * n + 1.0, octahedron = d * (2.0 * n * n + 2.0 * n + 3.0) / 3.0;
+    const double ball = nn == tools::NN_FACE        ? octahedron
+                        : nn == tools::NN_FACE_EDGE ? (d * d * d + octahedron) / 2.0
+                                                    : d * d * d;
+    return std::min(box, double(grid.activeVoxelCount()) * ball);
 }
 
 tools::TilePolicy parseTilePolicy(const std::string& name) {
@@ -92,6 +116,12 @@ void addMorphCommand(CLI::App& app, Context& ctx) {
             const bool dilate = a.operation == "dilate";
             runEdit(ctx, a.edit, [&](Report& report, const GridBase::Ptr& grid) {
                 withAnyGrid(grid, [&](auto& g) {
+                    using ValueT = typename std::decay_t<decltype(g)>::ValueType;
+                    if (dilate)
+                        checkMemoryEstimate(
+                            dilatedVoxels(*grid, a.iterations, nn) * (sizeof(ValueT) + 0.5),
+                            "dilating grid \"" + grid->getName() + "\" by " +
+                                std::to_string(a.iterations) + " voxels");
                     report.step(std::string(dilate ? "dilate " : "erode ") + grid->getName(), [&] {
                         if (dilate)
                             tools::dilateActiveValues(g.tree(), a.iterations, nn, policy);
@@ -127,21 +157,19 @@ void addFloodFillCommand(CLI::App& app, Context& ctx) {
         app, ctx, "floodfill",
         "Give the inactive voxels and tiles of level sets the sign of the side they are on", true,
         [args, &ctx] {
-            size_t filled = 0;
-            runEdit(ctx, *args, [&](Report& report, const GridBase::Ptr& grid) {
-                // Without --grid, only grids marked as level sets.
-                if (args->grid.empty() && grid->getGridClass() != GRID_LEVEL_SET)
-                    return false;
-                withLevelSetGrid(grid, [&](auto& g) {
-                    report.step("flood fill " + grid->getName(),
-                                [&] { tools::signedFloodFill(g.tree()); });
-                });
-                ++filled;
-                return true;
-            });
-            if (filled == 0)
-                throw UsageError(args->input +
-                                 " has no level set grid; name a float grid with --grid");
+            runEdit(
+                ctx, *args,
+                [&](Report& report, const GridBase::Ptr& grid) {
+                    // Without --grid, only grids marked as level sets.
+                    if (args->grid.empty() && grid->getGridClass() != GRID_LEVEL_SET)
+                        return false;
+                    withLevelSetGrid(grid, [&](auto& g) {
+                        report.step("flood fill " + grid->getName(),
+                                    [&] { tools::signedFloodFill(g.tree()); });
+                    });
+                    return true;
+                },
+                args->input + " has no level set grid; name a float grid with --grid");
         });
     addEditOptions(*cmd, *args);
     cmd->footer("Example:\n  vdb floodfill band.vdb -o filled.vdb");
@@ -194,7 +222,7 @@ void addPruneCommand(CLI::App& app, Context& ctx) {
         ->capture_default_str();
     cmd->add_option("--tolerance", args->tolerance,
                     "Largest value difference pruned as constant (value mode)")
-        ->check(CLI::Range(0.0, 1e30))
+        ->check(finiteRange(0.0, 1e30))
         ->capture_default_str();
     cmd->footer("Example:\n  vdb prune density.vdb -o pruned.vdb --tolerance 0.001");
 }

@@ -116,12 +116,9 @@ void addRenderCommand(CLI::App& app, Context& ctx) {
                         }
                     });
             });
-            report.step("write " + a.output,
-                        [&] { writeWatched(a.output, [&] { writePng(a.output, image); }); });
+            report.step("write " + a.output, [&] { writePng(a.output, image); });
             if (!a.normals.empty())
-                report.step("write " + a.normals, [&] {
-                    writeWatched(a.normals, [&] { writePng(a.normals, normals); });
-                });
+                report.step("write " + a.normals, [&] { writePng(a.normals, normals); });
             report.json()
                 .key("input")
                 .value(a.input)

@@ -11,10 +11,10 @@ namespace vdb::app {
 void addSphereCommand(CLI::App& app, Context& ctx) {
     struct Args {
         OutputArgs out;
-        float radius = 1.0f;
-        std::vector<float> center{0.0f, 0.0f, 0.0f};
-        float voxelSize = 0.01f;
-        float halfWidth = 3.0f;
+        double radius = 1.0;
+        std::vector<double> center{0.0, 0.0, 0.0};
+        double voxelSize = 0.01;
+        double halfWidth = 3.0;
         int enright = 0;
         std::string name = "sphere";
     };
@@ -23,15 +23,22 @@ void addSphereCommand(CLI::App& app, Context& ctx) {
         app, ctx, "sphere", "Make a narrow-band level set of a sphere", true, [args, &ctx] {
             Args& a = *args;
             checkOutputPath(a.out.path);
-            // About 4.5 bytes per band voxel (values, masks, nodes).
             const double r = a.enright > 0 ? 0.15 * a.enright : a.radius / a.voxelSize;
-            checkMemoryEstimate(4.5 * 4 * 3.14159 * r * r * 2 * a.halfWidth, "this sphere");
+            if (a.enright == 0)
+                for (int i = 0; i < 3; ++i)
+                    checkIndexRange(a.center[i] / a.voxelSize - r - a.halfWidth,
+                                    a.center[i] / a.voxelSize + r + a.halfWidth,
+                                    "a sphere of radius " + numberText(a.radius) +
+                                        " at this center and voxel size " +
+                                        numberText(a.voxelSize));
+            checkMemoryEstimate(levelSetBytes(4.0 * 3.14159265 * r * r, a.halfWidth),
+                                "this sphere");
             Report report(ctx);
             FloatGrid::Ptr grid = report.step("build sphere", [&] {
                 if (a.enright > 0)
                     return tools::createEnrightSphere<FloatGrid>(a.enright, a.halfWidth);
                 return tools::createLevelSetSphere<FloatGrid>(
-                    a.radius, Vec3f(a.center[0], a.center[1], a.center[2]), a.voxelSize,
+                    a.radius, Vec3d(a.center[0], a.center[1], a.center[2]), a.voxelSize,
                     a.halfWidth);
             });
             grid->setName(a.name);
@@ -53,12 +60,13 @@ void addSphereCommand(CLI::App& app, Context& ctx) {
     cmd->add_option("-c,--center", args->center, "Center: x y z in world units")
         ->expected(3)
         ->delimiter(',')
+        ->check(finite())
         ->capture_default_str();
     cmd->add_option("-s,--voxel-size", args->voxelSize, "Voxel edge in world units")
         ->check(positive())
         ->capture_default_str();
     cmd->add_option("-w,--half-width", args->halfWidth, "Half the band width, in voxels")
-        ->check(CLI::Range(1.01f, 1000.0f))
+        ->check(finiteRange(1.01, 1000.0))
         ->capture_default_str();
     cmd->add_option("--enright", args->enright,
                     "Instead: the Enright test sphere (radius 0.15 at 0.35,0.35,0.35 in the "

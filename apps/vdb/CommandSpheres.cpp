@@ -50,6 +50,10 @@ tools::SphereList readSpheres(const std::string& path) {
             throw UsageError(where + "the radius must be positive");
         spheres.positions.emplace_back(float(v[0]), float(v[1]), float(v[2]));
         spheres.radii.push_back(float(v[3]));
+        if (spheres.radii.size() % (1u << 20) == 0)
+            checkMemoryEstimate(double(spheres.radii.size()) * (sizeof(Vec3s) + sizeof(float)) * 2,
+                                "the spheres of " + path + " (" + withCommas(spheres.radii.size()) +
+                                    " read so far)");
     }
     if (in.bad())
         throw UsageError("cannot read " + path);
@@ -71,6 +75,9 @@ FloatGrid::Ptr spheresToGrid(Report& report, const tools::SphereList& spheres, d
         box.expand(Vec3d(spheres.positions[n]) + spheres.radii[n]);
         bandVoxels += 4.0 * 3.14159 * (r * r + halfWidth * halfWidth) * 2.0 * halfWidth;
     }
+    for (int a = 0; a < 3; ++a)
+        checkIndexRange(box.min()[a] / voxelSize - halfWidth, box.max()[a] / voxelSize + halfWidth,
+                        "these spheres at voxel size " + numberText(voxelSize));
     const Vec3d cells = box.extents() / voxelSize + 2.0 * halfWidth;
     bandVoxels = std::min(bandVoxels, cells[0] * cells[1] * cells[2]);
     checkMemoryEstimate(12.0 * bandVoxels, "these spheres at this voxel size");
@@ -108,6 +115,9 @@ void addSpheresCommand(CLI::App& app, Context& ctx) {
         true, [args, &ctx] {
             Args& a = *args;
             checkOutputPath(a.out.path);
+            if (a.input.empty())
+                checkMemoryEstimate(double(a.count) * (sizeof(Vec3s) + sizeof(float)) * 2.0,
+                                    withCommas(a.count) + " spheres");
             Report report(ctx);
             const tools::SphereList spheres =
                 a.input.empty()
@@ -146,7 +156,7 @@ void addSpheresCommand(CLI::App& app, Context& ctx) {
         ->check(positive())
         ->capture_default_str();
     cmd->add_option("-w,--half-width", args->halfWidth, "Half the band width, in voxels")
-        ->check(CLI::Range(1.0f, 1000.0f))
+        ->check(finiteRange(1.0, 1000.0))
         ->capture_default_str();
     cmd->add_option("--seed", args->seed, "Helix: random seed")->capture_default_str();
     cmd->add_option("-n,--name", args->name, "Grid name")->capture_default_str();

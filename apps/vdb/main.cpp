@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
 
     const std::string name = commandName(app);
     try {
-        ctx.applyThreads();
+        ctx.apply();
         for (const auto& command : ctx.commands)
             if (command.app->parsed())
                 command.run();
