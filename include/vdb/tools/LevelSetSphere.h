@@ -138,45 +138,6 @@ IndexSphere<ValueT> makeIndexSphere(double radius, const Vec3d& center, double v
     return sphere;
 }
 
-/// Takes ownership of `leaf` and links it into `tree`, creating the internal nodes above it
-/// from the tiles they replace. @pre no leaf exists at its origin
-template <typename NodeT, typename LeafT>
-void linkLeafBelow(NodeT& node, std::unique_ptr<LeafT>& leaf) {
-    using ChildT = typename NodeT::ChildNodeType;
-    const Coord ijk = leaf->origin();
-    const Index n = NodeT::coordToOffset(ijk);
-    if constexpr (ChildT::LEVEL == 0) {
-        node.setChild(n, leaf.release());
-    } else {
-        ChildT* child = node.getChild(n);
-        if (!child) {
-            child = new ChildT(ijk, node.getTileValue(n), node.isTileOn(n));
-            node.setChild(n, child);
-        }
-        linkLeafBelow(*child, leaf);
-    }
-}
-
-template <typename TreeT, typename LeafT>
-void linkLeaf(TreeT& tree, std::unique_ptr<LeafT> leaf) {
-    using TopT = typename TreeT::TopNodeType;
-    TreeT::checkDomain(leaf->origin());
-    TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        using ChildT = typename TopT::ChildNodeType;
-        const Coord key = TopT::coordToKey(leaf->origin());
-        const auto* e = top.findEntry(key);
-        ChildT* child = e ? e->child : nullptr;
-        if (!child) {
-            child = new ChildT(key, e ? e->tile : top.background(), e ? e->active : false);
-            top.setChild(child);
-        }
-        linkLeafBelow(*child, leaf);
-    } else {
-        linkLeafBelow(top, leaf);
-    }
-}
-
 template <typename ValueT>
 ValueT pow2(ValueT x) {
     return x * x;
@@ -299,7 +260,7 @@ void rasterSpheres(TreeT& tree, const std::vector<IndexSphere<ValueT>>& spheres,
     // Link the leaves in column order, so the tree's tables fill in the same order always.
     for (auto& column : columns) {
         for (auto& leaf : column)
-            linkLeaf(tree, std::move(leaf));
+            tree.addLeaf(std::move(leaf));
     }
 }
 

@@ -13,7 +13,7 @@
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/math/Vec3.h>
-#include <vdb/tools/LevelSetSphere.h>
+#include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
 
 #include <tbb/parallel_sort.h>
@@ -144,7 +144,7 @@ void buildLeavesByBlock(TreeT& tree, size_t blockCount, const OpT& op, bool thre
         blockCount, [&](size_t b) { op(b, leaves[b]); }, threaded, 1);
     for (auto& block : leaves) {
         for (auto& leaf : block)
-            linkLeaf(tree, std::move(leaf));
+            tree.addLeaf(std::move(leaf));
     }
 }
 
