@@ -58,6 +58,12 @@ template <VdbTree TreeT>
 void prune(TreeT& tree, typename TreeT::ValueType tolerance = typename TreeT::ValueType{},
            bool threaded = true);
 
+/// As prune(), but only internal nodes become tiles (leaves stay): a node whose children are
+/// all tiles within `tolerance` of each other, of one state, collapses. OpenVDB's pruneTiles.
+template <VdbTree TreeT>
+void pruneTiles(TreeT& tree, typename TreeT::ValueType tolerance = typename TreeT::ValueType{},
+                bool threaded = true);
+
 /// Replaces with an inactive tile of the background every node that has no active value and no
 /// child, bottom-up; then drops root tiles equal to the background.
 template <VdbTree TreeT>
@@ -297,6 +303,21 @@ void prune(TreeT& tree, typename TreeT::ValueType tolerance, bool threaded) {
         tree,
         [&tolerance](const auto& child, ValueT& value, bool& state) {
             return detail::isConstantForPrune(child, tolerance, value, state);
+        },
+        threaded);
+}
+
+template <VdbTree TreeT>
+void pruneTiles(TreeT& tree, typename TreeT::ValueType tolerance, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    detail::pruneBottomUp(
+        tree,
+        [&tolerance](const auto& child, ValueT& value, bool& state) {
+            if constexpr (std::remove_cvref_t<decltype(child)>::LEVEL == 0) {
+                return false;
+            } else {
+                return detail::isConstantForPrune(child, tolerance, value, state);
+            }
         },
         threaded);
 }
