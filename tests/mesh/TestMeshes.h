@@ -368,21 +368,39 @@ struct SignTally {
     int wrong = 0;    ///< of which the two disagree
 };
 
-/// Compares `insideOf(p)` (the level set) with `oracleInside(p)` at `points` (index space),
-/// leaving out the points within `nearSurface` voxels of the mesh (where a sign is a matter of
-/// rounding) and within `nearOpenEdges` voxels of its open edges (where the winding number
-/// changes smoothly between inside and outside).
+/// The points of `points` (index space) more than `nearSurface` voxels from the mesh (where a
+/// sign is a matter of rounding) and `nearOpenEdges` voxels from its open edges (where the
+/// winding number changes smoothly between inside and outside), each with `oracleInside(p)`.
+template <typename OracleT>
+std::vector<std::pair<Vec3d, bool>> oracleSigns(const OracleMesh& mesh,
+                                                const std::vector<Vec3d>& points,
+                                                double nearSurface, double nearOpenEdges,
+                                                const OracleT& oracleInside) {
+    std::vector<std::pair<Vec3d, bool>> out;
+    for (const Vec3d& p : points) {
+        if (mesh.distance(p) >= nearSurface && mesh.distanceToOpenEdges(p) >= nearOpenEdges)
+            out.emplace_back(p, oracleInside(p));
+    }
+    return out;
+}
+
+/// Compares `insideOf(p)` (a level set) with the oracle's signs.
+template <typename InsideT>
+SignTally compareSigns(const std::vector<std::pair<Vec3d, bool>>& oracle, const InsideT& insideOf) {
+    SignTally tally;
+    for (const auto& [p, inside] : oracle) {
+        ++tally.checked;
+        tally.wrong += insideOf(p) != inside;
+    }
+    return tally;
+}
+
+/// Both steps at once.
 template <typename InsideT, typename OracleT>
 SignTally compareSigns(const OracleMesh& mesh, const std::vector<Vec3d>& points, double nearSurface,
                        double nearOpenEdges, const InsideT& insideOf, const OracleT& oracleInside) {
-    SignTally tally;
-    for (const Vec3d& p : points) {
-        if (mesh.distance(p) < nearSurface || mesh.distanceToOpenEdges(p) < nearOpenEdges)
-            continue;
-        ++tally.checked;
-        tally.wrong += insideOf(p) != oracleInside(p);
-    }
-    return tally;
+    return compareSigns(oracleSigns(mesh, points, nearSurface, nearOpenEdges, oracleInside),
+                        insideOf);
 }
 
 /// Every `stride`-th voxel centre, in each axis, of the box around the mesh grown by `margin`

@@ -636,11 +636,10 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
     // With holes, the signs of the voxels of the leaf at `origin` from their counts `below`:
     // inside where |k + w| > 1/2, w the patches' winding number. Where a bound keeps |w| below
     // 1/2 over the leaf, the count alone decides. Otherwise w is evaluated at the centre of each
-    // cube of 4^3 voxels, with a bound on how far it moves within the cube; the voxels of the
-    // band it leaves open are settled in cubes of 2^3 the same way, and the rest one by one.
-    // Voxels beyond the band take the side of their cube's centre.
-    const auto signWithHoles = [&](const Coord& origin, const auto& below, const auto& dist2,
-                                   auto& inside, WindingNumberTree::Local& local) {
+    // cube of 4^3 voxels, with a bound on how far it moves within the cube; the voxels it
+    // leaves open are settled in cubes of 2^3 the same way, and the rest one by one.
+    const auto signWithHoles = [&](const Coord& origin, const auto& below, auto& inside,
+                                   WindingNumberTree::Local& local) {
         const auto cube = [&](const auto& self, const Coord& min, Int32 size) -> void {
             const Vec3d center = Vec3d(origin + min) + 0.5 * double(size - 1);
             const double radius = 0.5 * double(size - 1) * std::sqrt(3.0);
@@ -669,7 +668,7 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                         const Index n = LeafT::coordToOffset(Coord(x, y, z));
                         const double a = std::abs(double(below[n]) + w);
                         inside[n] = a > 0.5;
-                        if (std::abs(a - 0.5) > variation || !(dist2[n] < band2))
+                        if (std::abs(a - 0.5) > variation)
                             continue;
                         if (size > 2) {
                             refine = true;
@@ -793,7 +792,7 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                 if (isSigned) {
                     counts->template leafCounts<LeafT>(b, leafOrigin, below.data());
                     if (holes) {
-                        signWithHoles(leafOrigin, below, dist2, inside, local);
+                        signWithHoles(leafOrigin, below, inside, local);
                     } else {
                         for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
                             inside[n] = fromCount(below[n]);
