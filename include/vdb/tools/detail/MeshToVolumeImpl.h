@@ -126,9 +126,11 @@ inline int scanlineEdgeSide(const Vec3d& p, const Vec3d& q, double x, double y, 
     const int side = e > 0.0 ? 1 : (e < 0.0 ? -1 : 0);
     return swap ? -side : side;
 }
-/// The side of the z-line through (x, y) on triangle (p0, p1, p2): +1 when the line crosses a
-/// triangle that turns counter-clockwise seen from +z, -1 for one that turns clockwise, 0 when
-/// it misses; `z` receives where it crosses.
+
+/// How the z-line through (x, y) crosses triangle (p0, p1, p2): +1 through a triangle that turns
+/// counter-clockwise seen from +z, -1 through one that turns clockwise, 0 when it misses (a
+/// line through a shared edge or vertex crosses exactly one of the triangles that share it);
+/// `z` receives where it crosses.
 inline int scanlineCrossing(const Vec3d& p0, const Vec3d& p1, const Vec3d& p2, double x, double y,
                             double& z) {
     double e2 = 0, e0 = 0, e1 = 0;
@@ -828,9 +830,9 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
     signedFloodFillImpl<1>(tree, outsideValue, insideValue, threaded);
     if (rule != SignRule::WindingNumber)
         return;
-    // ... and near holes a flood fill leaks, so every inactive tile takes the sign at its
-    // centre instead.
-    // Outside the box of the points (which holds the patches too) every count is 0.
+    // ... but leaks through holes, so with holes every inactive tile takes the sign at its
+    // centre instead. Outside the box of the points (which holds the patches too) every count
+    // is 0.
     Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (const Vec3d& p : points) {
         lo = Vec3d::minComponent(lo, p);
