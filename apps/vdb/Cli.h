@@ -111,8 +111,9 @@ private:
     std::vector<std::pair<std::string, double>> mSteps;
 };
 
-/// Throws UsageError when an operation estimated to need `bytes` of memory would not fit in
-/// this machine's physical memory, naming `what`.
+/// Throws UsageError when an operation estimated to need `bytes` of memory would not fit in the
+/// memory this process may use (the least of the memory available on the machine, ulimit -v
+/// and -d, and its cgroup's limit), naming `what`, the estimate and the limit in bytes.
 void checkMemoryEstimate(double bytes, const std::string& what);
 
 // ---- Files

@@ -4,15 +4,13 @@
 
 #include <vdb/Exceptions.h>
 
+#include "ImageFiles.h"
 #include <png.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <limits>
 #include <vector>
 
@@ -33,44 +31,28 @@ void writePng(const std::string& path, const render::Image& image) {
         image.height() > std::numeric_limits<png_uint_32>::max())
         fail(path, "the image is too large for PNG");
     const std::vector<uint8_t> pixels = image.toRgba8(/*srgb=*/true);
-
-    // A temporary file beside the target, so that the final rename stays on one file system.
-    std::string temp = path + ".tmp-XXXXXX";
-    const int fd = mkstemp(temp.data());
-    if (fd < 0)
-        fail(path, std::strerror(errno));
-    fchmod(fd, 0644);  // mkstemp creates 0600; images are for everyone to read
-    std::FILE* file = fdopen(fd, "wb");
-    if (!file) {
-        const int err = errno;
-        close(fd);
-        std::remove(temp.c_str());
-        fail(path, std::strerror(err));
-    }
-
-    png_image png;
-    std::memset(&png, 0, sizeof(png));
-    png.version = PNG_IMAGE_VERSION;
-    png.width = png_uint_32(image.width());
-    png.height = png_uint_32(image.height());
-    png.format = PNG_FORMAT_RGBA;
-    const bool written =
-        png_image_write_to_stdio(&png, file, /*convert_to_8bit=*/0, pixels.data(),
-                                 png_int_32(image.width() * 4), /*colormap=*/nullptr) != 0;
-    const std::string message = written ? std::string() : std::string(png.message);
-    png_image_free(&png);
-    const bool flushed = std::fflush(file) == 0 && fsync(fileno(file)) == 0;
-    const bool closed = std::fclose(file) == 0;
-    if (!written || !flushed || !closed) {
-        std::remove(temp.c_str());
-        fail(path, written ? std::string("write failed: ") + std::strerror(errno) : message);
-    }
-    std::error_code ec;
-    std::filesystem::rename(temp, path, ec);
-    if (ec) {
-        std::remove(temp.c_str());
-        fail(path, ec.message());
-    }
+    replaceFile(path, "PNG", [&](const std::string& temporary) {
+        std::FILE* file = std::fopen(temporary.c_str(), "wb");
+        if (!file)
+            fail(path, std::strerror(errno));
+        png_image png;
+        std::memset(&png, 0, sizeof(png));
+        png.version = PNG_IMAGE_VERSION;
+        png.width = png_uint_32(image.width());
+        png.height = png_uint_32(image.height());
+        png.format = PNG_FORMAT_RGBA;
+        const bool written =
+            png_image_write_to_stdio(&png, file, /*convert_to_8bit=*/0, pixels.data(),
+                                     png_int_32(image.width() * 4), /*colormap=*/nullptr) != 0;
+        const std::string message = written ? std::string() : std::string(png.message);
+        png_image_free(&png);
+        const bool flushed = std::fflush(file) == 0;
+        const bool closed = std::fclose(file) == 0;
+        if (!written)
+            fail(path, message);
+        if (!flushed || !closed)
+            fail(path, std::string("write failed: ") + std::strerror(errno));
+    });
 }
 
 }  // namespace vdb::app
