@@ -222,7 +222,7 @@ TEST(VolumeRenderer, SunlightThroughABoxFallsExponentiallyWithDepth) {
         VolumeRenderSettings settings;
         settings.extinction = sigma;
         settings.lightDirection = Vec3d(1, 0, 0);
-        settings.lightCache = cache;
+        settings.lightCache = cache ? LightCache::On : LightCache::Off;
         settings.step = 0.1;
         // Steps short enough that the midpoint error at the ramp's kinks is below 1e-3.
         settings.shadowStep = cache ? 0.25 : 0.1;
@@ -301,8 +301,9 @@ TEST(VolumeRenderer, LightTreeMatchesMarchingTowardsTheSun) {
         const auto box = evalFogVolumeStats(*grid).worldBBox(grid->transform());
         const auto camera = PerspectiveCamera::frame(box, 40, 30, Vec3d(-1, -0.4, -0.8));
         settings.shadowStep = 0.5;
+        settings.lightCache = LightCache::On;
         const Image cached = renderFogVolume(*grid, camera, settings);
-        settings.lightCache = false;
+        settings.lightCache = LightCache::Off;
         const Image marched = renderFogVolume(*grid, camera, settings);
         double worst = 0.0;
         for (size_t i = 0; i < cached.pixels().size(); ++i) {
@@ -369,7 +370,7 @@ TEST(VolumeRenderer, ImagesDoNotDependOnTheThreadCountWithEitherLight) {
         VolumeRenderSettings settings;
         settings.extinction = 6.0;
         settings.tileSize = 8;
-        settings.lightCache = cache;
+        settings.lightCache = cache ? LightCache::On : LightCache::Off;
         settings.ambientColor = Rgba{0.2f, 0.2f, 0.2f, 1.0f};
         Image image[3];
         for (int run = 0; run < 3; ++run) {

@@ -22,11 +22,13 @@
 /// transmittance integrated exactly: exp(-sigma d ds); active tiles are constant, so they take
 /// steps of an eighth of their edge (only the light varies). A ray stops once T falls below
 /// `cutoff`. The sun's transmittance Tl is marched the same way towards the light, at
-/// `shadowStep`, and stops once it falls below `cutoff`; with `lightCache` (the default) it is
-/// marched once per voxel of the leaves that hold density, into a light tree read back with
-/// trilinear interpolation, so that its cost grows with the voxels rather than with the
-/// samples of every pixel. Voxels need not be cubes: steps are in index units, and each ray's
-/// extinction per index unit is sigma times the world length of one index unit along it.
+/// `shadowStep`, and stops once it falls below `cutoff`. With the light cache it is marched
+/// once per voxel that samples with density read, into a light tree read back with trilinear
+/// interpolation, so that its cost grows with the voxels rather than with the samples of every
+/// pixel; LightCache::Auto (the default) uses it unless the picture is so small that marching
+/// per sample costs less (pixels x the volume's width / step below the voxels to march). Voxels
+/// need not be cubes: steps are in index units, and each ray's extinction per index unit is sigma
+/// times the world length of one index unit along it.
 ///
 /// The image is cut into square tiles rendered in parallel (oneTBB); every pixel is computed
 /// from its own camera ray alone and the light tree does not depend on the number of threads,
@@ -77,6 +79,9 @@
 
 namespace vdb::render {
 
+/// How VolumeRenderSettings find the sun's transmittance at samples.
+enum class LightCache { Auto, On, Off };
+
 /// Settings of renderFogVolume() and VolumeRenderer.
 struct VolumeRenderSettings {
     double extinction = 1.0;                  ///< sigma: per world unit, at density 1
@@ -88,8 +93,10 @@ struct VolumeRenderSettings {
     double step = 0.5;        ///< longest primary step, in voxels (index units)
     double shadowStep = 1.0;  ///< longest step towards the sun, in voxels
     bool shadows = true;      ///< march the sun's transmittance (else the sun is unblocked)
-    bool lightCache = true;   ///< march it once per voxel into a light tree (else per sample)
-    double cutoff = 1e-3;     ///< transmittance below which marching stops, in (0, 1)
+    /// Whether the sun's transmittance is marched once per voxel into a light tree (On), per
+    /// sample (Off), or by the estimated cost (Auto; On for VolumeRenderer used alone).
+    LightCache lightCache = LightCache::Auto;
+    double cutoff = 1e-3;  ///< transmittance below which marching stops, in (0, 1)
     Rgba background{0.0f, 0.0f, 0.0f, 0.0f};  ///< composited behind the volume
     size_t tileSize = 16;                     ///< edge of the square tiles rendered as tasks
     bool threaded = true;
@@ -191,8 +198,8 @@ private:
 }  // namespace detail
 
 /// The per-ray part of renderFogVolume(): colour and transmittance along world-space rays.
-/// Construction finds the leaves that hold density and, with shadows and lightCache, marches
-/// the light tree (in parallel when settings.threaded); copies share them.
+/// Construction finds the leaves that hold density and, with shadows and the light cache,
+/// marches the light tree (in parallel when settings.threaded); copies share them.
 ///
 /// Invariant: the grid outlives the renderer and its copies and is not modified meanwhile.
 /// Threads: not thread-safe (walkers and accessors cache tree paths); copy it per thread.
@@ -204,10 +211,11 @@ public:
     using ValueType = typename GridT::ValueType;
     static_assert(std::is_floating_point_v<ValueType>, "densities are floating-point values");
 
+    /// `pixels`, when not 0, is the number of rays to be shaded, for LightCache::Auto.
     /// @throw ValueError for a frustum transform, a zero or non-finite light direction, a step
     ///   or shadow step that is not positive and finite, an extinction that is negative or not
     ///   finite, or a cutoff outside (0, 1).
-    VolumeRenderer(const GridT& grid, const VolumeRenderSettings& settings);
+    VolumeRenderer(const GridT& grid, const VolumeRenderSettings& settings, size_t pixels = 0);
 
     /// The colour seen along `wRay` from its t0 to its t1, composited over the background.
     Rgba shade(const RayType& wRay);
@@ -274,11 +282,12 @@ private:
         math::HierarchicalDDA<TreeType> mHdda;
     };
 
-    // Builds the shared light tree (values only when `cache`).
+    // Builds the shared light tree, with values when the settings ask for the light cache
+    // (for Auto, by the cost estimate for `pixels` rays).
     static std::shared_ptr<const Shared> makeShared(const GridT& grid,
                                                     const VolumeRenderSettings& settings,
                                                     const Vec3d& indexLight, double lightSigma,
-                                                    bool cache);
+                                                    size_t pixels);
     // The optical depth towards the sun from index point p, stopping past maxDepth.
     double shadowDepth(const Vec3d& p, double maxDepth);
     // The sun's transmittance at p (cell: its trilinear cell, or null in a tile).
@@ -405,7 +414,7 @@ FogVolumeStats evalFogVolumeStats(const GridT& grid, bool threaded) {
 template <typename GridT>
 std::shared_ptr<const typename VolumeRenderer<GridT>::Shared> VolumeRenderer<GridT>::makeShared(
     const GridT& grid, const VolumeRenderSettings& settings, const Vec3d& indexLight,
-    double lightSigma, bool cache) {
+    double lightSigma, size_t pixels) {
     const TreeType& tree = grid.tree();
     auto shared = std::make_shared<Shared>();
     const detail::FogLeafScan<TreeType> scan = detail::scanFogLeaves(tree, settings.threaded);
@@ -503,6 +512,14 @@ std::shared_ptr<const typename VolumeRenderer<GridT>::Shared> VolumeRenderer<Gri
             }
         }
     }
+    // The light cache: its cost is one march per active voxel of the light tree; marching per
+    // sample costs about one march per sample, pixels x the volume's width / step at most.
+    bool cache = settings.shadows && settings.lightCache != LightCache::Off;
+    if (cache && settings.lightCache == LightCache::Auto && pixels > 0) {
+        const double voxels = double(light.activeVoxelCount());
+        const double samples = double(pixels) * std::cbrt(voxels) / settings.step;
+        cache = voxels <= samples;
+    }
     if (!cache)
         return shared;
 
@@ -586,7 +603,8 @@ void VolumeRenderer<GridT>::Marcher::march(const RayType& ray, double step, cons
 }
 
 template <typename GridT>
-VolumeRenderer<GridT>::VolumeRenderer(const GridT& grid, const VolumeRenderSettings& settings)
+VolumeRenderer<GridT>::VolumeRenderer(const GridT& grid, const VolumeRenderSettings& settings,
+                                      size_t pixels)
     : mGrid(&grid),
       mSettings(settings),
       mIndexLight(0.0),
@@ -607,8 +625,7 @@ VolumeRenderer<GridT>::VolumeRenderer(const GridT& grid, const VolumeRenderSetti
     const Vec3d light = detail::unitLight(settings.lightDirection);
     mIndexLight = grid.transform().worldToIndexDirection(light).unitSafe(0.0);
     mLightSigma = settings.extinction * worldLength(mIndexLight);
-    mShared = makeShared(grid, settings, mIndexLight, mLightSigma,
-                         settings.shadows && settings.lightCache);
+    mShared = makeShared(grid, settings, mIndexLight, mLightSigma, pixels);
     mPrimary = Marcher(grid.tree(), *mShared);
     mShadow = Marcher(grid.tree(), *mShared);
     mLight = detail::CellReader<LightTree>(mShared->light);
@@ -691,7 +708,7 @@ double VolumeRenderer<GridT>::opticalDepth(const RayType& wRay) {
 template <typename GridT>
 Image renderFogVolume(const GridT& grid, const Camera& camera,
                       const VolumeRenderSettings& settings) {
-    const VolumeRenderer<GridT> prototype(grid, settings);
+    const VolumeRenderer<GridT> prototype(grid, settings, camera.width() * camera.height());
     Image image(camera.width(), camera.height());
     detail::forEachPixelInTiles(
         camera.width(), camera.height(), settings.tileSize, settings.threaded,
