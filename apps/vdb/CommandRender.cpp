@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -677,7 +678,12 @@ void runRender(const RenderArgs& a, Context& ctx) {
     vec(camera->forward());
     json.key("up");
     vec(camera->up());
+    if (const auto* p = dynamic_cast<const render::PerspectiveCamera*>(camera.get()))
+        json.key("fov").value(2.0 * std::atan(p->tanHalfFov()) * 180.0 / std::numbers::pi);
     json.endObject();
+    json.key("light");
+    vec(light.unitSafe(0.0));
+    json.key("ambient").value(ambient);
     if (sequence) {
         json.key("frames").beginArray();
         for (size_t i = 0; i < count; ++i)

@@ -23,10 +23,11 @@
 /// steps of an eighth of their edge (only the light varies). A ray stops once T falls below
 /// `cutoff`. The sun's transmittance Tl is marched the same way towards the light, at
 /// `shadowStep`, and stops once it falls below `cutoff`. With the light cache it is marched
-/// once per voxel that samples with density read, into a light tree read back with trilinear
-/// interpolation, so that its cost grows with the voxels rather than with the samples of every
-/// pixel; LightCache::Auto (the default) uses it unless the picture is so small that marching
-/// per sample costs less (pixels x the volume's width / step below the voxels to march). Voxels
+/// once per voxel, the first time a sample's trilinear cell needs it, into a light tree read
+/// back with trilinear interpolation, so that its cost grows with the voxels seen rather than
+/// with the samples of every pixel; LightCache::Auto (the default) uses it unless the picture
+/// is so small that marching per sample costs less (pixels x the volume's width / step below
+/// the voxels that could need it). Voxels
 /// need not be cubes: steps are in index units, and each ray's extinction per index unit is sigma
 /// times the world length of one index unit along it.
 ///
@@ -43,8 +44,8 @@
 /// vdb::render::Image image = vdb::render::renderFogVolume(*density, camera, settings);
 /// @endcode
 ///
-/// Cost: O(voxels with density x shadow ray length / shadowStep) for the light tree, then per
-/// pixel O(regions crossed + ray length in the volume / step). Threads: the functions are
+/// Cost: one march towards the sun per voxel seen (O(shadow ray length / shadowStep) each), and
+/// per pixel O(regions crossed + ray length in the volume / step). Threads: the functions are
 /// thread-safe; a VolumeRenderer is not (copy it per thread).
 
 #pragma once
@@ -69,6 +70,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -159,18 +161,35 @@ public:
 
     explicit CellReader(const TreeT& tree) : mAcc(tree) {}
 
-    /// Fills v[a][b][k] with the value at c + (a, b, k).
+    /// Fills v[a][b][k] with the value at c + (a, b, k), read from leaves by `load(leaf, n)`.
+    template <typename LoadT>
+    void get(const Coord& c, ValueType (&v)[2][2][2], const LoadT& load) {
+        setCell(c);
+        tools::detail::readCellCorners<LeafT>(
+            c, v,
+            [this](int m, ValueType& tile) {
+                const LeafT* leaf = block(m);
+                tile = mTile[size_t(m)];
+                return leaf;
+            },
+            load);
+    }
     void get(const Coord& c, ValueType (&v)[2][2][2]) {
+        get(c, v, [](const LeafT& leaf, Index n) { return leaf.getValue(n); });
+    }
+
+    /// Makes the blocks around the cell with lower corner `c` the current ones, for leafAt().
+    void setCell(const Coord& c) {
         const Coord base = c.alignedDown(LeafT::LOG2DIM);
         if (base != mBase) {
             mBase = base;
             mKnown = 0;
         }
-        tools::detail::readCellCorners<LeafT>(c, v, [this](int m, ValueType& tile) {
-            const LeafT* leaf = block(m);
-            tile = mTile[size_t(m)];
-            return leaf;
-        });
+    }
+    /// The leaf holding `ijk`, a corner of the cell given to setCell() or get(), or null.
+    const LeafT* leafAt(const Coord& ijk) {
+        const Coord d = ijk.alignedDown(LeafT::LOG2DIM) - mBase;
+        return block((d[0] != 0) | (d[1] != 0) << 1 | (d[2] != 0) << 2);
     }
 
 private:
@@ -198,8 +217,8 @@ private:
 }  // namespace detail
 
 /// The per-ray part of renderFogVolume(): colour and transmittance along world-space rays.
-/// Construction finds the leaves that hold density and, with shadows and the light cache,
-/// marches the light tree (in parallel when settings.threaded); copies share them.
+/// Construction finds the leaves that hold density (in parallel when settings.threaded) and
+/// makes the light tree; copies share it, and fill it as their samples need its values.
 ///
 /// Invariant: the grid outlives the renderer and its copies and is not modified meanwhile.
 /// Threads: not thread-safe (walkers and accessors cache tree paths); copy it per thread.
@@ -233,14 +252,18 @@ private:
     using LeafT = typename TreeType::LeafNodeType;
     using LightTree = FloatTree;
     using LightLeaf = typename LightTree::LeafNodeType;
+    // Light tree values: a transmittance in [0, 1], UNMARCHED for a voxel not marched yet, and
+    // -1 (the background) where no sample looks.
+    static constexpr float UNMARCHED = -2.0f;
     static_assert(LeafT::DIM == LightLeaf::DIM,
                   "fog rendering needs leaves of 8^3 voxels: the light tree mirrors them");
 
     /// What the copies of a renderer share: the light tree, whose active voxels are the corners
     /// of the trilinear cells with positive density that samples in the grid's leaves can
-    /// use, and whose values there are the sun's transmittance at the voxel centres when
-    /// cached (-1 elsewhere, and everywhere when not cached). The grid's leaves whose cubes can
-    /// hold positive density are exactly those with a light leaf at their origin.
+    /// use, and whose values there are, with the light cache, the sun's transmittance at the
+    /// voxel centres, marched by the first sample that needs it (UNMARCHED until then; -1
+    /// elsewhere, and everywhere without the cache). The grid's leaves whose cubes can hold
+    /// positive density are exactly those with a light leaf at their origin.
     struct Shared {
         LightTree light{-1.0f};
         BBoxd bounds;  // index box where density can be positive (voxel-centred)
@@ -286,7 +309,6 @@ private:
     // (for Auto, by the cost estimate for `pixels` rays).
     static std::shared_ptr<const Shared> makeShared(const GridT& grid,
                                                     const VolumeRenderSettings& settings,
-                                                    const Vec3d& indexLight, double lightSigma,
                                                     size_t pixels);
     // The optical depth towards the sun from index point p, stopping past maxDepth.
     double shadowDepth(const Vec3d& p, double maxDepth);
@@ -413,8 +435,7 @@ FogVolumeStats evalFogVolumeStats(const GridT& grid, bool threaded) {
 
 template <typename GridT>
 std::shared_ptr<const typename VolumeRenderer<GridT>::Shared> VolumeRenderer<GridT>::makeShared(
-    const GridT& grid, const VolumeRenderSettings& settings, const Vec3d& indexLight,
-    double lightSigma, size_t pixels) {
+    const GridT& grid, const VolumeRenderSettings& settings, size_t pixels) {
     const TreeType& tree = grid.tree();
     auto shared = std::make_shared<Shared>();
     const detail::FogLeafScan<TreeType> scan = detail::scanFogLeaves(tree, settings.threaded);
@@ -523,29 +544,18 @@ std::shared_ptr<const typename VolumeRenderer<GridT>::Shared> VolumeRenderer<Gri
     if (!cache)
         return shared;
 
-    // The sun's transmittance at the centre of every active voxel of the light tree.
+    // Marked unmarched: sunlight() marches each voxel the first time a sample needs it.
     std::vector<LightLeaf*> lightLeaves;
     for (LightLeaf& leaf : light.leaves())
         lightLeaves.push_back(&leaf);
-    const double maxDepth = -std::log(settings.cutoff);
     util::parallelFor(
         lightLeaves.size(),
         [&](size_t i) {
-            Marcher marcher(tree, *shared);
             LightLeaf& leaf = *lightLeaves[i];
-            for (Index n : leaf.getValueMask().onBits()) {
-                double depth = 0.0;
-                marcher.march(RayType(Vec3d(leaf.offsetToGlobalCoord(n)), indexLight, 0.0,
-                                      std::numeric_limits<double>::max()),
-                              settings.shadowStep,
-                              [&](const Vec3d&, const Coord*, double d, double ds) {
-                                  depth += lightSigma * d * ds;
-                                  return depth <= maxDepth;
-                              });
-                leaf.setValueOnly(n, float(std::exp(-depth)));
-            }
+            for (Index n : leaf.getValueMask().onBits())
+                leaf.setValueOnly(n, UNMARCHED);
         },
-        settings.threaded, /*grain=*/1);
+        settings.threaded);
     shared->cached = true;
     return shared;
 }
@@ -625,7 +635,7 @@ VolumeRenderer<GridT>::VolumeRenderer(const GridT& grid, const VolumeRenderSetti
     const Vec3d light = detail::unitLight(settings.lightDirection);
     mIndexLight = grid.transform().worldToIndexDirection(light).unitSafe(0.0);
     mLightSigma = settings.extinction * worldLength(mIndexLight);
-    mShared = makeShared(grid, settings, mIndexLight, mLightSigma, pixels);
+    mShared = makeShared(grid, settings, pixels);
     mPrimary = Marcher(grid.tree(), *mShared);
     mShadow = Marcher(grid.tree(), *mShared);
     mLight = detail::CellReader<LightTree>(mShared->light);
@@ -653,15 +663,36 @@ template <typename GridT>
 double VolumeRenderer<GridT>::sunlight(const Vec3d& p, const Coord* cell) {
     if (!mSettings.shadows)
         return 1.0;
+    const double maxDepth = -std::log(mSettings.cutoff);
     if (cell && mShared->cached) {
+        // The corners' transmittances, each marched by the first sample that needs it. Threads
+        // share the light tree: its values are read and written atomically (the tree is not
+        // const: Shared holds it as a cache), and two threads that march one voxel at once
+        // store the same value.
+        const auto slot = [](const LightLeaf& leaf, Index n) {
+            return std::atomic_ref<float>(const_cast<float&>(leaf.getValue(n)));
+        };
         float v[2][2][2];
-        mLight.get(*cell, v);
-        const float lowest = std::min({v[0][0][0], v[0][0][1], v[0][1][0], v[0][1][1], v[1][0][0],
-                                       v[1][0][1], v[1][1][0], v[1][1][1]});
-        if (lowest >= 0.0f)  // every corner marched (else fall back to a march)
+        mLight.get(*cell, v, [&](const LightLeaf& leaf, Index n) {
+            return slot(leaf, n).load(std::memory_order_relaxed);
+        });
+        bool marched = true;
+        for (int a = 0; a < 2 && marched; ++a)
+            for (int b = 0; b < 2 && marched; ++b)
+                for (int k = 0; k < 2 && marched; ++k) {
+                    float& x = v[a][b][k];
+                    if (x == UNMARCHED) {
+                        const Coord q = cell->offsetBy(a, b, k);
+                        x = float(std::exp(-shadowDepth(Vec3d(q), maxDepth)));
+                        slot(*mLight.leafAt(q), LightLeaf::coordToOffset(q))
+                            .store(x, std::memory_order_relaxed);
+                    }
+                    marched = x >= 0.0f;  // else not a voxel of the light tree
+                }
+        if (marched)
             return double(tools::BoxSampler::trilinear(v, p - Vec3d(*cell)));
     }
-    return std::exp(-shadowDepth(p, -std::log(mSettings.cutoff)));
+    return std::exp(-shadowDepth(p, maxDepth));
 }
 
 template <typename GridT>

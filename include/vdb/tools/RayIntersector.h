@@ -303,8 +303,14 @@ BBoxd paddedActiveBBox(const TreeT& tree, double pad) {
 /// block m around c (bit 0 of m: the next block in +x, bit 1: in +y, bit 2: in +z, from the
 /// block of c), or null with that block's constant value stored in `tile`. Only the blocks the
 /// cell reaches into are asked for; when it lies in one leaf, its buffer is read directly.
+/// `load(leaf, n)` reads the value at offset n of a leaf (by default leaf.getValue(n)).
 template <typename LeafT, typename ValueT, typename BlockT>
 void readCellCorners(const Coord& c, ValueT (&v)[2][2][2], const BlockT& block) {
+    readCellCorners<LeafT>(c, v, block,
+                           [](const LeafT& leaf, Index n) { return leaf.getValue(n); });
+}
+template <typename LeafT, typename ValueT, typename BlockT, typename LoadT>
+void readCellCorners(const Coord& c, ValueT (&v)[2][2][2], const BlockT& block, const LoadT& load) {
     constexpr Int32 LAST = Int32(LeafT::DIM) - 1;
     const Coord local(c[0] & LAST, c[1] & LAST, c[2] & LAST);
     // Along each axis where the cell sticks out of its block, the upper corners lie in the
@@ -317,8 +323,8 @@ void readCellCorners(const Coord& c, ValueT (&v)[2][2][2], const BlockT& block) 
             const Index n = LeafT::coordToOffset(c);
             for (Index a = 0; a < 2; ++a)
                 for (Index b = 0; b < 2; ++b) {
-                    v[a][b][0] = leaf->getValue(n + a * X + b * Y);
-                    v[a][b][1] = leaf->getValue(n + a * X + b * Y + 1);
+                    v[a][b][0] = load(*leaf, n + a * X + b * Y);
+                    v[a][b][1] = load(*leaf, n + a * X + b * Y + 1);
                 }
         } else {
             for (ValueT* x = &v[0][0][0]; x != &v[0][0][0] + 8; ++x)
@@ -335,9 +341,8 @@ void readCellCorners(const Coord& c, ValueT (&v)[2][2][2], const BlockT& block) 
         for (int b = 0; b < 2; ++b)
             for (int k = 0; k < 2; ++k) {
                 const int m = (a & out) | ((b << 1) & out) | ((k << 2) & out);
-                v[a][b][k] = leaves[m]
-                                 ? leaves[m]->getValue(LeafT::coordToOffset(c.offsetBy(a, b, k)))
-                                 : tiles[m];
+                v[a][b][k] = leaves[m] ? load(*leaves[m], LeafT::coordToOffset(c.offsetBy(a, b, k)))
+                                       : tiles[m];
             }
 }
 
