@@ -58,7 +58,7 @@ constexpr double kFogOpticalDepth = 4.0;
 constexpr double kFogAmbient = 0.3;
 constexpr double kSurfaceAmbient = 0.12;
 // The default light, in the camera's frame: right, up, and towards the camera.
-constexpr double kLightRight = 0.55, kLightUp = 0.75, kLightBack = 0.35;
+constexpr double kLightRight = 0.45, kLightUp = 0.65, kLightBack = 0.6;
 
 Vec3d toVec(const std::vector<double>& v) {
     return Vec3d(v[0], v[1], v[2]);
@@ -750,7 +750,7 @@ void addRenderCommand(CLI::App& app, Context& ctx) {
     addVector(*cmd, "--up", args->up, "Up direction", true);
     addVector(*cmd, "--light", args->light,
               "World direction towards the light (the sun for fog); default: from the upper "
-              "right of the camera, 0.55 right + 0.75 up + 0.35 back in its frame",
+              "right of the camera, 0.45 right + 0.65 up + 0.6 back in its frame",
               false);
     cmd->add_option("--ambient", args->ambient,
                     "Light reaching every point, shadowed or not, relative to the light's "
