@@ -21,6 +21,8 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <thread>
+#include <vector>
 
 namespace vdb::render {
 namespace {
@@ -223,7 +225,7 @@ TEST(VolumeRenderer, SunlightThroughABoxFallsExponentiallyWithDepth) {
         settings.extinction = sigma;
         settings.lightDirection = Vec3d(1, 0, 0);
         settings.lightCache = cache ? LightCache::On : LightCache::Off;
-        settings.step = 0.1;
+        settings.step = 0.2;
         // Steps short enough that the midpoint error at the ramp's kinks is below 1e-3.
         settings.shadowStep = cache ? 0.25 : 0.1;
         settings.cutoff = 1e-6;
@@ -386,6 +388,40 @@ TEST(VolumeRenderer, ImagesDoNotDependOnTheThreadCountWithEitherLight) {
         EXPECT_TRUE(image[1] == image[0]);
         EXPECT_TRUE(image[2] == image[0]);
     }
+}
+
+TEST(VolumeRenderer, CopiesOnThreadsFillTheSharedLightTreeAlike) {
+    // Renderer copies on plain threads (no oneTBB, so that ThreadSanitizer sees every access)
+    // shade the same rays at once, racing to march the same voxels of the light tree; each
+    // must see what one renderer alone sees.
+    auto grid = makeMixedFog(0.05);
+    VolumeRenderSettings settings;
+    settings.extinction = 5.0;
+    settings.lightCache = LightCache::On;
+    settings.threaded = false;
+    const auto box = evalFogVolumeStats(*grid, false).worldBBox(grid->transform());
+    const PerspectiveCamera camera = PerspectiveCamera::frame(box, 24, 18, Vec3d(-1, -0.4, -1));
+    std::vector<Rgba> alone;
+    {
+        VolumeRenderer<FloatGrid> renderer(*grid, settings);
+        for (size_t y = 0; y < 18; ++y)
+            for (size_t x = 0; x < 24; ++x)
+                alone.push_back(renderer.shade(camera.ray(x + 0.5, y + 0.5)));
+    }
+    const VolumeRenderer<FloatGrid> prototype(*grid, settings);
+    std::vector<std::vector<Rgba>> seen(4);
+    std::vector<std::thread> threads;
+    for (size_t t = 0; t < seen.size(); ++t)
+        threads.emplace_back([&, t] {
+            VolumeRenderer<FloatGrid> renderer(prototype);
+            for (size_t y = 0; y < 18; ++y)
+                for (size_t x = 0; x < 24; ++x)
+                    seen[t].push_back(renderer.shade(camera.ray(x + 0.5, y + 0.5)));
+        });
+    for (auto& thread : threads)
+        thread.join();
+    for (const auto& s : seen)
+        EXPECT_TRUE(s == alone);
 }
 
 TEST(VolumeRenderer, BackgroundIsCompositedBehindAStraightColour) {
