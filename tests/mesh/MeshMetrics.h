@@ -124,12 +124,14 @@ inline double surfaceArea(const TestMesh& mesh) {
 }
 
 /// Distances from points to the triangles of a mesh (quads split), up to a search radius:
-/// the triangles are bucketed by their bounding boxes in cubes of that radius, and a query
-/// tests every triangle of the 27 buckets around it by the Voronoi-region closest point.
+/// the triangles are bucketed by their bounding boxes in cubes of edge `cell` (the radius by
+/// default), and a query visits rings of buckets around its own, nearest first, testing each
+/// triangle by the Voronoi-region closest point, until no farther bucket can hold anything
+/// closer.
 class MeshDistance {
 public:
-    MeshDistance(const TestMesh& mesh, double radius)
-        : mRadius(radius), mTriangles(mesh.allTriangles()) {
+    MeshDistance(const TestMesh& mesh, double radius, double cell = 0.0)
+        : mRadius(radius), mCell(cell > 0.0 ? cell : radius), mTriangles(mesh.allTriangles()) {
         for (const Vec3s& p : mesh.points)
             mPoints.emplace_back(p);
         for (uint32_t t = 0; t < mTriangles.size(); ++t) {
@@ -138,6 +140,7 @@ public:
                 lo = Vec3d::minComponent(lo, mPoints[mTriangles[t][i]]);
                 hi = Vec3d::maxComponent(hi, mPoints[mTriangles[t][i]]);
             }
+            mBoxes.push_back({lo, hi});
             const Key a = key(lo), b = key(hi);
             for (int64_t x = a[0]; x <= b[0]; ++x)
                 for (int64_t y = a[1]; y <= b[1]; ++y)
@@ -150,19 +153,41 @@ public:
     double distance(const Vec3d& p) const {
         double best = mRadius * mRadius;
         const Key c = key(p);
-        for (int64_t x = c[0] - 1; x <= c[0] + 1; ++x)
-            for (int64_t y = c[1] - 1; y <= c[1] + 1; ++y)
-                for (int64_t z = c[2] - 1; z <= c[2] + 1; ++z) {
-                    const auto it = mBuckets.find({x, y, z});
-                    if (it == mBuckets.end())
-                        continue;
-                    for (const uint32_t t : it->second) {
-                        const Vec3I& tri = mTriangles[t];
-                        const Vec3d q = closestPointOnTriangle(p, mPoints[tri[0]], mPoints[tri[1]],
-                                                               mPoints[tri[2]]);
-                        best = std::min(best, (q - p).lengthSqr());
+        // How far p lies from the nearest wall of its own bucket.
+        double wall = mCell;
+        for (int a = 0; a < 3; ++a) {
+            const double f = p[a] - double(c[size_t(a)]) * mCell;
+            wall = std::min({wall, f, mCell - f});
+        }
+        const int64_t rings = int64_t(std::ceil(mRadius / mCell));
+        for (int64_t r = 0; r <= rings; ++r) {
+            // Buckets of ring r lie at least this far from p.
+            const double reach = r == 0 ? 0.0 : double(r - 1) * mCell + wall;
+            if (reach * reach >= best)
+                break;
+            for (int64_t x = c[0] - r; x <= c[0] + r; ++x)
+                for (int64_t y = c[1] - r; y <= c[1] + r; ++y)
+                    for (int64_t z = c[2] - r; z <= c[2] + r; ++z) {
+                        if (std::max(
+                                {std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r)
+                            continue;
+                        const auto it = mBuckets.find({x, y, z});
+                        if (it == mBuckets.end())
+                            continue;
+                        for (const uint32_t t : it->second) {
+                            // The triangle's bounding box first: most are farther than the best.
+                            const auto& [lo, hi] = mBoxes[t];
+                            const Vec3d out = Vec3d::maxComponent(
+                                Vec3d::maxComponent(lo - p, p - hi), Vec3d(0.0));
+                            if (out.lengthSqr() >= best)
+                                continue;
+                            const Vec3I& tri = mTriangles[t];
+                            const Vec3d q = closestPointOnTriangle(
+                                p, mPoints[tri[0]], mPoints[tri[1]], mPoints[tri[2]]);
+                            best = std::min(best, (q - p).lengthSqr());
+                        }
                     }
-                }
+        }
         return std::sqrt(best);
     }
 
@@ -174,44 +199,54 @@ private:
         }
     };
     Key key(const Vec3d& p) const {
-        return {int64_t(std::floor(p[0] / mRadius)), int64_t(std::floor(p[1] / mRadius)),
-                int64_t(std::floor(p[2] / mRadius))};
+        return {int64_t(std::floor(p[0] / mCell)), int64_t(std::floor(p[1] / mCell)),
+                int64_t(std::floor(p[2] / mCell))};
     }
 
-    double mRadius;
+    double mRadius, mCell;
     std::vector<Vec3I> mTriangles;
     std::vector<Vec3d> mPoints;
+    std::vector<std::pair<Vec3d, Vec3d>> mBoxes;  // per triangle: its bounding box
     std::unordered_map<Key, std::vector<uint32_t>, KeyHash> mBuckets;
 };
 
-/// Points spread over a mesh: its vertices, the centroid of every triangle (quads split) and
-/// the midpoint of every triangle edge.
-inline std::vector<Vec3d> surfaceSamples(const TestMesh& mesh) {
+/// Points spread over a mesh no more than about `spacing` apart: its vertices, and on every
+/// triangle (quads split) the points of a barycentric grid fine enough for its longest edge.
+inline std::vector<Vec3d> surfaceSamples(const TestMesh& mesh, double spacing) {
     std::vector<Vec3d> out;
     for (const Vec3s& p : mesh.points)
         out.emplace_back(p);
     for (const Vec3I& t : mesh.allTriangles()) {
         const Vec3d a(mesh.points[t[0]]), b(mesh.points[t[1]]), c(mesh.points[t[2]]);
+        const double longest = std::max({(b - a).length(), (c - b).length(), (a - c).length()});
+        const int n = std::max(1, int(std::ceil(longest / spacing)));
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; i + j <= n; ++j) {
+                const bool corner = (i == 0 && j == 0) || i == n || j == n;
+                if (!corner)
+                    out.push_back(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+            }
         out.push_back((a + b + c) / 3.0);
-        out.push_back((a + b) * 0.5);
-        out.push_back((b + c) * 0.5);
-        out.push_back((c + a) * 0.5);
     }
     return out;
 }
 
-/// The largest distance from the samples of `from` to `to`, capped at `radius`.
-inline double directedHausdorff(const TestMesh& from, const TestMesh& to, double radius) {
-    const MeshDistance distance(to, radius);
+/// The largest distance from the samples of `from` (`spacing` apart) to `to`, capped at
+/// `radius`.
+inline double directedHausdorff(const TestMesh& from, const TestMesh& to, double radius,
+                                double spacing) {
+    const MeshDistance distance(to, radius, std::max(radius / 4.0, 2.0 * spacing));
     double worst = 0.0;
-    for (const Vec3d& p : surfaceSamples(from))
+    for (const Vec3d& p : surfaceSamples(from, spacing))
         worst = std::max(worst, distance.distance(p));
     return worst;
 }
 
-/// The symmetric Hausdorff distance between two meshes, sampled, capped at `radius`.
-inline double hausdorff(const TestMesh& a, const TestMesh& b, double radius) {
-    return std::max(directedHausdorff(a, b, radius), directedHausdorff(b, a, radius));
+/// The symmetric Hausdorff distance between two meshes, sampled `spacing` apart, capped at
+/// `radius`.
+inline double hausdorff(const TestMesh& a, const TestMesh& b, double radius, double spacing) {
+    return std::max(directedHausdorff(a, b, radius, spacing),
+                    directedHausdorff(b, a, radius, spacing));
 }
 
 /// The largest distance from a point of `a` to the nearest point of `b`, capped at `radius`

@@ -4,11 +4,11 @@
 // vertex fans of MeshMetrics.h for topology; the same grid with every tile written out as
 // voxels for tiles; random fields for the ambiguous configurations smooth shapes never show.
 
-#include <vdb/tools/SignedFloodFill.h>
 #include <vdb/tools/VolumeToMesh.h>
 #include <vdb/tree/TreeConfigs.h>
 #include <vdb/vdb.h>
 
+#include "AnalyticLevelSets.h"
 #include "MeshMetrics.h"
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -23,67 +23,19 @@
 namespace vdb::tools {
 namespace {
 
+using test::cubeSdf;
+using test::kBox128;
+using test::largestDistance;
+using test::levelSetOf;
+using test::meshOf;
+using test::Sdf;
+using test::sphereSdf;
 using test::TestMesh;
-using Sdf = std::function<double(const Vec3d&)>;
+using test::torusSdf;
 constexpr double kPi = std::numbers::pi;
-
-/// A narrow-band level set of `sdf` (index space): exact distances within `halfWidth` voxels
-/// over `box`, then the signed flood fill for the rest.
-template <typename GridT = FloatGrid>
-typename GridT::Ptr levelSetOf(const Sdf& sdf, const CoordBBox& box, double halfWidth = 3.0) {
-    using ValueT = typename GridT::ValueType;
-    auto grid = GridT::create(ValueT(halfWidth));
-    grid->setGridClass(GRID_LEVEL_SET);
-    auto acc = grid->getAccessor();
-    for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i)
-        for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j)
-            for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k) {
-                const double d = sdf(Vec3d(Coord(i, j, k)));
-                if (std::abs(d) < halfWidth)
-                    acc.setValue(Coord(i, j, k), ValueT(d));
-            }
-    signedFloodFill(grid->tree());
-    return grid;
-}
-
-template <typename GridT>
-TestMesh meshOf(const GridT& grid, double isovalue = 0.0, double adaptivity = 0.0,
-                bool relax = true) {
-    TestMesh mesh;
-    volumeToMesh(grid, mesh.points, mesh.triangles, mesh.quads, isovalue, adaptivity, relax);
-    return mesh;
-}
-
-double largestDistance(const TestMesh& mesh, const Sdf& sdf) {
-    double worst = 0.0;
-    for (const Vec3s& p : mesh.points)
-        worst = std::max(worst, std::abs(sdf(Vec3d(p))));
-    return worst;
-}
 
 double relativeError(double value, double exact) {
     return std::abs(value - exact) / exact;
-}
-
-const CoordBBox kBox128(Coord(0), Coord(127));
-
-double sphereSdf(const Vec3d& p) {
-    return (p - Vec3d(63.3, 64.1, 62.7)).length() - 40.0;
-}
-double torusSdf(const Vec3d& x) {
-    const Vec3d p = x - Vec3d(64.2, 63.7, 64.4);
-    const double q = std::sqrt(p[0] * p[0] + p[1] * p[1]) - 36.0;
-    return std::sqrt(q * q + p[2] * p[2]) - 14.0;
-}
-double boxSdf(const Vec3d& p, const Vec3d& center, const Vec3d& half) {
-    const Vec3d q =
-        Vec3d(std::abs(p[0] - center[0]), std::abs(p[1] - center[1]), std::abs(p[2] - center[2])) -
-        half;
-    return Vec3d::maxComponent(q, Vec3d(0.0)).length() + std::min(q.maxComponent(), 0.0);
-}
-double touchingSpheresSdf(const Vec3d& p) {
-    return std::min((p - Vec3d(34.2, 64.1, 63.8)).length() - 30.0,
-                    (p - Vec3d(94.2, 64.1, 63.8)).length() - 30.0);
 }
 
 // ---- Analytic shapes at adaptivity 0 ----
@@ -114,7 +66,7 @@ TEST(VolumeToMesh, TorusIsClosedWithOneHandle) {
 }
 
 TEST(VolumeToMesh, BoxKeepsItsVolumeAndLosesOnlyItsEdges) {
-    const Sdf box = [](const Vec3d& p) { return boxSdf(p, Vec3d(64.3, 63.8, 64.1), Vec3d(40.0)); };
+    const Sdf box = cubeSdf;
     const TestMesh mesh = meshOf(*levelSetOf(box, kBox128));
     const auto topology = test::topologyOf(mesh);
     EXPECT_TRUE(topology.closedManifold());
@@ -139,7 +91,7 @@ TEST(VolumeToMesh, BoxKeepsItsVolumeAndLosesOnlyItsEdges) {
 }
 
 TEST(VolumeToMesh, TouchingSpheresStayTwoManifold) {
-    const TestMesh mesh = meshOf(*levelSetOf(touchingSpheresSdf, kBox128));
+    const TestMesh mesh = meshOf(*levelSetOf(test::touchingSpheresSdf, kBox128));
     const auto topology = test::topologyOf(mesh);
     EXPECT_TRUE(topology.closedManifold());
     EXPECT_LT(relativeError(-signedVolume(mesh), 2.0 * 4.0 / 3.0 * kPi * 30.0 * 30.0 * 30.0), 0.01);
@@ -148,7 +100,7 @@ TEST(VolumeToMesh, TouchingSpheresStayTwoManifold) {
 
 TEST(VolumeToMesh, PlateOneVoxelThickGetsTwoSheets) {
     const Sdf plate = [](const Vec3d& p) {
-        return boxSdf(p, Vec3d(64.3, 63.8, 64.0), Vec3d(50.0, 50.0, 0.5));
+        return test::boxSdf(p, Vec3d(64.3, 63.8, 64.0), Vec3d(50.0, 50.0, 0.5));
     };
     const auto grid = levelSetOf(plate, kBox128);
     const TestMesh mesh = meshOf(*grid);
@@ -176,12 +128,11 @@ TEST(VolumeToMesh, PlateOneVoxelThickGetsTwoSheets) {
 // ---- Adaptivity ----
 
 TEST(VolumeToMesh, AdaptivityMergesFlatRegionsAndKeepsTopology) {
-    const Sdf box = [](const Vec3d& p) { return boxSdf(p, Vec3d(64.3, 63.8, 64.1), Vec3d(40.0)); };
     const struct {
         const char* name;
         Sdf sdf;
         double vertexTolerance;
-    } shapes[] = {{"sphere", sphereSdf, 0.05}, {"torus", torusSdf, 0.05}, {"box", box, 0.5}};
+    } shapes[] = {{"sphere", sphereSdf, 0.05}, {"torus", torusSdf, 0.05}, {"box", cubeSdf, 0.5}};
     for (const auto& shape : shapes) {
         SCOPED_TRACE(shape.name);
         const auto grid = levelSetOf(shape.sdf, kBox128);

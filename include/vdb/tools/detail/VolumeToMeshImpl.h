@@ -572,10 +572,18 @@ void VolumeMesher<TreeT>::extract(Block& blk, Scratch& s, Accessor& acc,
                 s.sheetPoint.push_back(corner0 + sum[size_t(sheet)] / double(hits[size_t(sheet)]));
         }
         if (mAdaptive) {
-            // The gradient of the trilinear interpolant at the cell's centre.
-            Vec3d g((v[1] - v[0]) + (v[3] - v[2]) + (v[5] - v[4]) + (v[7] - v[6]),
-                    (v[2] - v[0]) + (v[3] - v[1]) + (v[6] - v[4]) + (v[7] - v[5]),
-                    (v[4] - v[0]) + (v[5] - v[1]) + (v[6] - v[2]) + (v[7] - v[3]));
+            // The surface normal of the cell: the central-difference gradient at its lowest
+            // corner, as OpenVDB estimates it (the neighbour below comes from the tree at the
+            // block's lower faces).
+            Vec3d g;
+            for (int axis = 0; axis < 3; ++axis) {
+                Coord lo = local;
+                lo[size_t(axis)] -= 1;
+                const double below = lo[size_t(axis)] >= 0
+                                         ? double(s.value[latticeIndex(lo[0], lo[1], lo[2])])
+                                         : double(acc.getValue(blk.origin + lo));
+                g[axis] = 0.5 * (v[size_t(1) << axis] - below);
+            }
             const double len = g.length();
             s.normal[c] = len > 0.0 && std::isfinite(len) ? g / len : Vec3d(0.0);
         }
