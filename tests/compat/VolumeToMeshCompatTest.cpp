@@ -73,7 +73,7 @@ TestMesh openVdbMesh(const openvdb::FloatGrid& grid, double adaptivity) {
 double surfaceDeviation(const TestMesh& mesh, const test::Sdf& sdf) {
     double worst = 0.0;
     for (const Vec3d& p : test::surfaceSamples(mesh, kSpacing))
-        worst = std::max(worst, std::abs(sdf(p)));
+        worst = std::max(worst, std::abs(test::sdfAt(sdf, p)));
     return worst;
 }
 
@@ -85,11 +85,13 @@ struct Case {
 
 std::vector<Case> cases() {
     std::vector<Case> out;
-    out.push_back({"sphere", test::levelSetOf(test::sphereSdf, test::kBox128), test::sphereSdf});
-    out.push_back({"torus", test::levelSetOf(test::torusSdf, test::kBox128), test::torusSdf});
-    out.push_back({"cube", test::levelSetOf(test::cubeSdf, test::kBox128), test::cubeSdf});
-    out.push_back({"touching spheres", test::levelSetOf(test::touchingSpheresSdf, test::kBox128),
-                   test::touchingSpheresSdf});
+    const std::pair<const char*, test::Sdf> shapes[] = {
+        {"sphere", test::kSphere},
+        {"torus", test::kTorus},
+        {"cube", test::kCube},
+        {"touching spheres", test::kTouchingSpheres}};
+    for (const auto& [name, sdf] : shapes)
+        out.push_back({name, test::levelSetOf(sdf, test::kBox128), sdf});
     // The sphere of the Enright test at 256^3, as createLevelSetSphere makes it.
     out.push_back({"enright sphere",
                    tools::createLevelSetSphere<FloatGrid>(0.15f, Vec3f(0.35f), 1.0f / 256.0f),

@@ -23,19 +23,29 @@
 namespace vdb::tools {
 namespace {
 
-using test::cubeSdf;
 using test::kBox128;
+using test::kCube;
+using test::kSphere;
+using test::kTorus;
 using test::largestDistance;
 using test::levelSetOf;
 using test::meshOf;
 using test::Sdf;
-using test::sphereSdf;
+using test::sdfAt;
 using test::TestMesh;
-using test::torusSdf;
 constexpr double kPi = std::numbers::pi;
 
 double relativeError(double value, double exact) {
     return std::abs(value - exact) / exact;
+}
+
+/// The sorted points and the number of quads, which must not depend on tiles.
+std::pair<std::vector<std::array<float, 3>>, size_t> pointSet(const TestMesh& mesh) {
+    std::vector<std::array<float, 3>> points;
+    for (const Vec3s& p : mesh.points)
+        points.push_back({p[0], p[1], p[2]});
+    std::sort(points.begin(), points.end());
+    return {points, mesh.quads.size()};
 }
 
 // ---- Analytic shapes at adaptivity 0 ----
@@ -57,16 +67,16 @@ void expectSmoothShape(const Sdf& sdf, long euler, double volume, double area) {
 }
 
 TEST(VolumeToMesh, SphereVerticesLieOnTheSurfaceOfAClosedMesh) {
-    expectSmoothShape(sphereSdf, 2, 4.0 / 3.0 * kPi * 40.0 * 40.0 * 40.0, 4.0 * kPi * 40.0 * 40.0);
+    expectSmoothShape(kSphere, 2, 4.0 / 3.0 * kPi * 40.0 * 40.0 * 40.0, 4.0 * kPi * 40.0 * 40.0);
 }
 
 TEST(VolumeToMesh, TorusIsClosedWithOneHandle) {
-    expectSmoothShape(torusSdf, 0, 2.0 * kPi * kPi * 36.0 * 14.0 * 14.0,
+    expectSmoothShape(kTorus, 0, 2.0 * kPi * kPi * 36.0 * 14.0 * 14.0,
                       4.0 * kPi * kPi * 36.0 * 14.0);
 }
 
 TEST(VolumeToMesh, BoxKeepsItsVolumeAndLosesOnlyItsEdges) {
-    const Sdf box = cubeSdf;
+    const Sdf& box = kCube;
     const TestMesh mesh = meshOf(*levelSetOf(box, kBox128));
     const auto topology = test::topologyOf(mesh);
     EXPECT_TRUE(topology.closedManifold());
@@ -84,14 +94,14 @@ TEST(VolumeToMesh, BoxKeepsItsVolumeAndLosesOnlyItsEdges) {
                                                      std::abs(q[1]) > 39.0 ? 0.0 : std::abs(q[1]),
                                                      std::abs(q[2]) > 39.0 ? 0.0 : std::abs(q[2])});
         if (atFace == 1 && edgeDistance > 2.0) {
-            ASSERT_LT(std::abs(box(Vec3d(p))), 1e-4) << Vec3d(p)[0] << " " << Vec3d(p)[1];
+            ASSERT_LT(std::abs(sdfAt(box, Vec3d(p))), 1e-4) << Vec3d(p)[0] << " " << Vec3d(p)[1];
         }
-        ASSERT_LT(std::abs(box(Vec3d(p))), 0.5);
+        ASSERT_LT(std::abs(sdfAt(box, Vec3d(p))), 0.5);
     }
 }
 
 TEST(VolumeToMesh, TouchingSpheresStayTwoManifold) {
-    const TestMesh mesh = meshOf(*levelSetOf(test::touchingSpheresSdf, kBox128));
+    const TestMesh mesh = meshOf(*levelSetOf(test::kTouchingSpheres, kBox128));
     const auto topology = test::topologyOf(mesh);
     EXPECT_TRUE(topology.closedManifold());
     EXPECT_LT(relativeError(-signedVolume(mesh), 2.0 * 4.0 / 3.0 * kPi * 30.0 * 30.0 * 30.0), 0.01);
@@ -99,9 +109,7 @@ TEST(VolumeToMesh, TouchingSpheresStayTwoManifold) {
 }
 
 TEST(VolumeToMesh, PlateOneVoxelThickGetsTwoSheets) {
-    const Sdf plate = [](const Vec3d& p) {
-        return test::boxSdf(p, Vec3d(64.3, 63.8, 64.0), Vec3d(50.0, 50.0, 0.5));
-    };
+    const Sdf& plate = test::kPlate;
     const auto grid = levelSetOf(plate, kBox128);
     const TestMesh mesh = meshOf(*grid);
     const auto topology = test::topologyOf(mesh);
@@ -115,7 +123,7 @@ TEST(VolumeToMesh, PlateOneVoxelThickGetsTwoSheets) {
             ASSERT_TRUE(std::abs(q[2] - 64.5) < 1e-4 || std::abs(q[2] - 63.5) < 1e-4) << q[2];
             (q[2] > 64.0 ? top : bottom) += 1;
         }
-        ASSERT_LT(std::abs(plate(q)), 0.5);
+        ASSERT_LT(std::abs(sdfAt(plate, q)), 0.5);
     }
     EXPECT_EQ(top, bottom);
     EXPECT_GT(top, 90u * 90u);
@@ -125,6 +133,17 @@ TEST(VolumeToMesh, PlateOneVoxelThickGetsTwoSheets) {
     EXPECT_LT(relativeError(surfaceArea(mesh), 2.0 * 100.0 * 100.0 + 400.0), 0.03);
 }
 
+TEST(VolumeToMesh, ValuesAtTheIsovalueGiveNoCoincidentVertices) {
+    // A cube whose faces pass through voxel centres: a layer of values exactly 0.
+    const test::Sdf cube = test::boxSdf(64.0, 64.0, 64.0, 30.0, 20.0, 25.0);
+    const TestMesh mesh = meshOf(*levelSetOf(cube, kBox128));
+    EXPECT_TRUE(test::topologyOf(mesh).closedManifold());
+    const auto points = pointSet(mesh).first;
+    EXPECT_EQ(std::adjacent_find(points.begin(), points.end()), points.end());
+    // Within two thirds of a voxel, at the cube's corners (the mean of three crossings).
+    EXPECT_LT(largestDistance(mesh, cube), 0.67);
+}
+
 // ---- Adaptivity ----
 
 TEST(VolumeToMesh, AdaptivityMergesFlatRegionsAndKeepsTopology) {
@@ -132,7 +151,7 @@ TEST(VolumeToMesh, AdaptivityMergesFlatRegionsAndKeepsTopology) {
         const char* name;
         Sdf sdf;
         double vertexTolerance;
-    } shapes[] = {{"sphere", sphereSdf, 0.05}, {"torus", torusSdf, 0.05}, {"box", cubeSdf, 0.5}};
+    } shapes[] = {{"sphere", kSphere, 0.05}, {"torus", kTorus, 0.05}, {"box", kCube, 0.5}};
     for (const auto& shape : shapes) {
         SCOPED_TRACE(shape.name);
         const auto grid = levelSetOf(shape.sdf, kBox128);
@@ -156,7 +175,7 @@ TEST(VolumeToMesh, AdaptivityMergesFlatRegionsAndKeepsTopology) {
 }
 
 TEST(VolumeToMesh, TrianglesAppearOnlyBetweenRegionsOfDifferentSizes) {
-    const auto grid = levelSetOf(sphereSdf, kBox128);
+    const auto grid = levelSetOf(kSphere, kBox128);
     const TestMesh uniform = meshOf(*grid, 0.0, 0.0);
     EXPECT_TRUE(uniform.triangles.empty());
     const TestMesh adaptive = meshOf(*grid, 0.0, 0.05);
@@ -235,15 +254,6 @@ typename GridT::Ptr voxelized(const GridT& grid, const CoordBBox& box) {
             for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k)
                 acc.setValue(Coord(i, j, k), src.getValue(Coord(i, j, k)));
     return out;
-}
-
-/// The sorted points and the number of quads, which must not depend on tiles.
-std::pair<std::vector<std::array<float, 3>>, size_t> pointSet(const TestMesh& mesh) {
-    std::vector<std::array<float, 3>> points;
-    for (const Vec3s& p : mesh.points)
-        points.push_back({p[0], p[1], p[2]});
-    std::sort(points.begin(), points.end());
-    return {points, mesh.quads.size()};
 }
 
 /// Meshes `grid`, and a copy over `box` (which must hold every tile and voxel, with a margin)
@@ -337,7 +347,7 @@ TEST(VolumeToMesh, FogVolumeAtAnIsovalueIsItsLevelSurface) {
 }
 
 TEST(VolumeToMesh, OrientationFollowsTheGridClass) {
-    auto grid = levelSetOf(sphereSdf, kBox128);
+    auto grid = levelSetOf(kSphere, kBox128);
     EXPECT_LT(signedVolume(meshOf(*grid)), 0.0);
     grid->setGridClass(GRID_UNKNOWN);  // inside is above the isovalue: the sphere's exterior
     EXPECT_GT(signedVolume(meshOf(*grid)), 0.0);
@@ -359,13 +369,13 @@ TEST(VolumeToMesh, EmptyAndUniformGridsGiveEmptyMeshes) {
     EXPECT_EQ(meshOf(*uniform).primitiveCount(), 0u);
 
     // An isovalue outside the values: nothing crosses it.
-    const auto sphere = levelSetOf(sphereSdf, kBox128);
+    const auto sphere = levelSetOf(kSphere, kBox128);
     EXPECT_EQ(meshOf(*sphere, 10.0).primitiveCount(), 0u);
     EXPECT_EQ(meshOf(*sphere, -10.0, 0.5).primitiveCount(), 0u);
 }
 
 TEST(VolumeToMesh, BadArgumentsAndValuesThrow) {
-    auto grid = levelSetOf(sphereSdf, kBox128);
+    auto grid = levelSetOf(kSphere, kBox128);
     TestMesh mesh;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     EXPECT_THROW(volumeToMesh(*grid, mesh.points, mesh.quads, nan), ValueError);
@@ -387,7 +397,7 @@ TEST(VolumeToMesh, GridsOfOtherValueTypesAreATypeError) {
                                    MaskGrid::create()};
     for (const auto& grid : grids)
         EXPECT_THROW(volumeToMesh(*grid, mesh.points, mesh.triangles, mesh.quads), TypeError);
-    const GridBase::Ptr sphere = levelSetOf(sphereSdf, kBox128);
+    const GridBase::Ptr sphere = levelSetOf(kSphere, kBox128);
     volumeToMesh(*sphere, mesh.points, mesh.triangles, mesh.quads);
     EXPECT_EQ(pointSet(mesh), pointSet(meshOf(*gridPtrCast<FloatGrid>(sphere))));
 }
@@ -395,7 +405,7 @@ TEST(VolumeToMesh, GridsOfOtherValueTypesAreATypeError) {
 // ---- Threads, value types, transforms ----
 
 TEST(VolumeToMesh, ResultDoesNotDependOnTheThreadCount) {
-    const auto grids = {noiseField(3, 40, 2.0), levelSetOf(torusSdf, kBox128)};
+    const auto grids = {noiseField(3, 40, 2.0), levelSetOf(kTorus, kBox128)};
     for (const auto& grid : grids) {
         for (const double adaptivity : {0.0, 0.5}) {
             const TestMesh many = meshOf(*grid, 0.0, adaptivity);
@@ -409,9 +419,9 @@ TEST(VolumeToMesh, ResultDoesNotDependOnTheThreadCount) {
 }
 
 TEST(VolumeToMesh, DoubleGridGivesTheFloatGridsMesh) {
-    const auto f = levelSetOf<FloatGrid>(torusSdf, kBox128);
-    const auto d =
-        levelSetOf<DoubleGrid>([](const Vec3d& p) { return double(float(torusSdf(p))); }, kBox128);
+    const auto f = levelSetOf<FloatGrid>(kTorus, kBox128);
+    const auto d = levelSetOf<DoubleGrid>(
+        [](double x, double y, double z) { return double(float(kTorus(x, y, z))); }, kBox128);
     for (const double adaptivity : {0.0, 0.5}) {
         const TestMesh a = meshOf(*f, 0.0, adaptivity), b = meshOf(*d, 0.0, adaptivity);
         EXPECT_EQ(a.points, b.points);
@@ -421,7 +431,7 @@ TEST(VolumeToMesh, DoubleGridGivesTheFloatGridsMesh) {
 }
 
 TEST(VolumeToMesh, PointsAreInWorldSpace) {
-    auto grid = levelSetOf(torusSdf, kBox128);
+    auto grid = levelSetOf(kTorus, kBox128);
     const TestMesh index = meshOf(*grid);
     auto xform = math::Transform::createLinearTransform(0.25);
     xform->postTranslate(Vec3d(-3.0, 7.5, 100.0));
@@ -436,7 +446,7 @@ TEST(VolumeToMesh, PointsAreInWorldSpace) {
 }
 
 TEST(VolumeToMesh, QuadOverloadIsAdaptivityZero) {
-    const auto grid = levelSetOf(torusSdf, kBox128);
+    const auto grid = levelSetOf(kTorus, kBox128);
     TestMesh a;
     volumeToMesh(*grid, a.points, a.quads);
     const TestMesh b = meshOf(*grid);
@@ -445,9 +455,9 @@ TEST(VolumeToMesh, QuadOverloadIsAdaptivityZero) {
 }
 
 TEST(VolumeToMesh, OtherLeafSizesGiveTheSameSurface) {
-    const auto standard = levelSetOf(sphereSdf, kBox128);
-    const auto small = levelSetOf<Grid<tree::HashTree432<float>>>(sphereSdf, kBox128);
-    const auto large = levelSetOf<Grid<tree::FixedTree6544<float>>>(sphereSdf, kBox128);
+    const auto standard = levelSetOf(kSphere, kBox128);
+    const auto small = levelSetOf<Grid<tree::HashTree432<float>>>(kSphere, kBox128);
+    const auto large = levelSetOf<Grid<tree::FixedTree6544<float>>>(kSphere, kBox128);
     // Vertices are computed relative to their leaf, so their last bits may differ.
     const TestMesh reference = meshOf(*standard);
     for (const auto& mesh : {meshOf(*small), meshOf(*large)}) {

@@ -8,8 +8,10 @@
 /// sides of the isovalue gets one vertex per sheet of surface that passes through it, and every
 /// edge between two voxels of opposite sides becomes one quad joining the vertices of its four
 /// cells. A vertex is the mean of the points where its sheet crosses the cell's edges (values
-/// interpolated linearly along each edge), so it lies within the cell and, on smooth surfaces,
-/// a few hundredths of a voxel from the surface. docs/VolumeToMesh.md explains the algorithm.
+/// interpolated linearly along each edge, kept a thousandth of a voxel from the edge's ends so
+/// that no two vertices coincide where values equal the isovalue), so it lies within the cell
+/// and, on smooth surfaces, a few hundredths of a voxel from the surface. docs/VolumeToMesh.md
+/// explains the algorithm.
 ///
 /// Guarantees at adaptivity 0: the mesh of a closed surface is closed, two-manifold (every edge
 /// in exactly two polygons, once in each direction) and consistently oriented, with no seam or

@@ -57,6 +57,9 @@ namespace vdb::tools::detail {
 // isovalue ("separated") or the two above ("joined" below). Bit f of a cell's face byte says
 // that face f is resolved as joined.
 
+/// The least distance, in voxels, between an edge's crossing point and the edge's ends.
+inline constexpr double kCrossingMargin = 1e-3;
+
 /// The two axes other than `axis`, in increasing order.
 inline constexpr int kOtherAxes[3][2] = {{1, 2}, {0, 2}, {0, 1}};
 
@@ -541,6 +544,9 @@ void VolumeMesher<TreeT>::extract(Block& blk, Scratch& s, Accessor& acc,
             double t = (mIso - va) / (vb - va);
             if (!(t >= 0.0 && t <= 1.0))  // an infinite value: the crossing is at the other end
                 t = std::isinf(va) ? (std::isinf(vb) ? 0.5 : 1.0) : 0.0;
+            // A voxel whose value equals the isovalue would put the crossings of every cell
+            // around it, and so their vertices, on its centre: keep them a little apart.
+            t = std::clamp(t, kCrossingMargin, 1.0 - kCrossingMargin);
             Vec3d p(double(a & 1), double((a >> 1) & 1), double(a >> 2));
             p[size_t(e >> 2)] += t;
             return p;
