@@ -171,6 +171,10 @@ TEST(MeshWriter, FailuresNameTheFileAndLeaveNothingBehind) {
     }
     EXPECT_FALSE(fs::exists(fs::path(missing).parent_path()));
 
+    // A folder nothing can be created in (even by root).
+    EXPECT_THROW(writeMesh("/proc/vdb-mesh-writer-test.obj", cube), IoError);
+    EXPECT_FALSE(fs::exists("/proc/vdb-mesh-writer-test.obj"));
+
     const std::string folder = tempFile("folder.obj");
     fs::create_directories(folder);
     EXPECT_THROW(writeMesh(folder, cube), IoError);
