@@ -21,6 +21,7 @@
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -330,6 +331,46 @@ void appendNode(const std::string& path, const aiScene& scene, const aiNode& nod
         appendNode(path, scene, *node.mChildren[c], xform, out, depth + 1);
 }
 
+/// Merges the points of `mesh` that lie at the same position (-0 and +0 alike): assimp merges
+/// identical vertices within each of its meshes, but a file's vertex shared by faces that it
+/// splits into several meshes (triangles and polygons, OBJ groups) arrives once per mesh.
+void weldPoints(Mesh& mesh) {
+    struct Key {
+        float x, y, z;
+        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            const auto bits = [](float f) {
+                uint32_t u = 0;
+                f += 0.0f;  // -0 becomes +0
+                std::memcpy(&u, &f, sizeof u);
+                return size_t(u);
+            };
+            return (bits(k.x) * 73856093u) ^ (bits(k.y) * 19349663u) ^ (bits(k.z) * 83492791u);
+        }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> first;
+    first.reserve(mesh.points.size());
+    std::vector<uint32_t> remap(mesh.points.size());
+    std::vector<Vec3s> welded;
+    welded.reserve(mesh.points.size());
+    for (size_t i = 0; i < mesh.points.size(); ++i) {
+        const Vec3s& p = mesh.points[i];
+        const auto [it, fresh] = first.try_emplace(Key{p[0], p[1], p[2]}, uint32_t(welded.size()));
+        if (fresh)
+            welded.push_back(p);
+        remap[i] = it->second;
+    }
+    if (welded.size() == mesh.points.size())
+        return;
+    mesh.points = std::move(welded);
+    for (Vec3I& t : mesh.triangles)
+        t = Vec3I(remap[t[0]], remap[t[1]], remap[t[2]]);
+    for (Vec4I& q : mesh.quads)
+        q = Vec4I(remap[q[0]], remap[q[1]], remap[q[2]], remap[q[3]]);
+}
+
 }  // namespace
 
 Mesh readMesh(const std::string& path) {
@@ -396,6 +437,7 @@ Mesh readMesh(const std::string& path) {
         appendNode(path, *scene, *scene->mRootNode, aiMatrix4x4(), out, 0);
     if (out.triangles.empty() && out.quads.empty())
         fail(path, "the file holds no faces");
+    weldPoints(out);
     return out;
 }
 
