@@ -87,9 +87,7 @@ void addToMeshCommand(CLI::App& app, Context& ctx) {
                         withCommas(mesh.quads.size()) + " quads");
             if (mesh.points.empty())
                 report.note("  the grid has no surface at this isovalue; the mesh is empty");
-            report.step("write " + a.output, [&] {
-                writeWatched(a.output, [&] { meshio::writeMesh(a.output, mesh); });
-            });
+            report.step("write " + a.output, [&] { meshio::writeMesh(a.output, mesh); });
             std::error_code ec;
             const auto bytes = std::filesystem::file_size(a.output, ec);
             report.json()

@@ -3,17 +3,14 @@
 
 #include <vdb/Exceptions.h>
 #include <vdb/meshio/MeshWriter.h>
+#include <vdb/util/OutputFile.h>
 
 #include <assimp/Exporter.hpp>
 #include <assimp/material.h>
 #include <assimp/scene.h>
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -30,87 +27,14 @@ namespace {
     throw IoError("writeMesh: " + path + ": " + what);
 }
 
-[[noreturn]] void failSystem(const std::string& path, const std::string& what, int err) {
-    fail(path, what + ": " + std::strerror(err));
-}
-
-/// Writes all of `size` bytes at `data` to `fd`.
-bool writeAll(int fd, const uint8_t* data, size_t size) {
-    while (size > 0) {
-        const ssize_t n = ::write(fd, data, size);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            return false;
-        }
-        data += n;
-        size -= size_t(n);
-    }
-    return true;
-}
-
-/// Replaces the file at `path` with `size` bytes at `data`, as trusted tools write outputs: a
-/// symbolic link is followed to its target; a device, FIFO or socket is written directly; a
-/// regular file (or a new one) is written to a temporary file "<target>.tmp-XXXXXX" in the same
-/// folder, synced, given the old file's permission bits (new files: 0666 less the umask) and
-/// renamed over the target. On any failure the temporary file is removed and IoError names
-/// `path`.
+/// Replaces the file at `path` with `size` bytes at `data` through util::OutputFile (an atomic
+/// replace of a regular file, links written through, devices and FIFOs written directly).
 void writeFileReplacing(const std::string& path, const uint8_t* data, size_t size) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    std::string target = path;
-    if (fs::is_symlink(fs::symlink_status(path, ec))) {
-        const fs::path resolved = fs::weakly_canonical(fs::path(path), ec);
-        if (ec)
-            fail(path, "cannot follow the symbolic link: " + ec.message());
-        target = resolved.string();
+    try {
+        util::writeOutputFile(path, [&](util::OutputFile& out) { out.write(data, size); });
+    } catch (const IoError& e) {
+        throw IoError(std::string("writeMesh: ") + e.what());  // it names the path
     }
-    struct stat st {};
-    const bool exists = ::stat(target.c_str(), &st) == 0;
-    if (exists && S_ISDIR(st.st_mode))
-        fail(path, "is a folder");
-    if (exists && !S_ISREG(st.st_mode)) {
-        // A device, FIFO or socket: there is nothing to replace; write into it.
-        const int fd = ::open(target.c_str(), O_WRONLY | O_CLOEXEC);
-        if (fd < 0)
-            failSystem(path, "cannot open", errno);
-        const bool written = writeAll(fd, data, size);
-        const int err = errno;
-        if (::close(fd) != 0 || !written)
-            failSystem(path, "cannot write", written ? errno : err);
-        return;
-    }
-
-    std::string temp = target + ".tmp-XXXXXX";
-    const int fd = ::mkstemp(temp.data());
-    if (fd < 0)
-        failSystem(path, "cannot create a temporary file next to it", errno);
-    mode_t mode = 0;
-    if (exists) {
-        mode = st.st_mode & 07777;
-    } else {
-        const mode_t mask = ::umask(0);
-        ::umask(mask);
-        mode = 0666 & ~mask;
-    }
-    const auto abandon = [&](const std::string& what, int err) {
-        ::unlink(temp.c_str());
-        failSystem(path, what, err);
-    };
-    if (::fchmod(fd, mode) != 0) {
-        const int err = errno;
-        ::close(fd);
-        abandon("cannot set the permissions of the temporary file", err);
-    }
-    if (!writeAll(fd, data, size) || ::fsync(fd) != 0) {
-        const int err = errno;
-        ::close(fd);
-        abandon("cannot write", err);
-    }
-    if (::close(fd) != 0)
-        abandon("cannot write", errno);
-    if (::rename(temp.c_str(), target.c_str()) != 0)
-        abandon("cannot replace the file", errno);
 }
 
 /// The mesh as one assimp mesh, faces counter-clockwise seen from outside. For STL every
