@@ -2,11 +2,14 @@
 // Geometry to level set benchmarks (Museth 2013, section 4.5, appendix B, Fig. 8): this
 // library against OpenVDB 10 on the same inputs, in one process.
 //
-//   mesh        meshToLevelSet, half width 3, of a closed mesh at a bounding resolution: the
+//   mesh        meshToLevelSet, half width 3, both libraries with their default signs (here
+//               MeshSign::Auto, which picks flood fill for closed meshes and winding numbers
+//               for the others; the signs column says which), at a bounding resolution: the
 //               voxel size is the longest edge of the mesh's bounding box over `res`. Meshes:
 //               a generated latitude-longitude sphere or torus with about the given number of
-//               triangles (shape:res:triangles), or Wuson.ply of the Debian package
-//               assimp-testmodels (wuson:res), read with vdb::meshio
+//               triangles (shape:res:triangles), or a model of the Debian package
+//               assimp-testmodels read with vdb::meshio (PATH:res, PATH relative to
+//               /usr/share/assimp/models, e.g. PLY/Wuson.ply:512; wuson:res is PLY/Wuson.ply)
 //   particles   the torus-knot-helix of Fig. 8: N spheres along the curve
 //               (tools::torusKnotHelixSpheres, radii 0.00375-0.005 in the unit box) rasterized
 //               as the union of their distance fields (ParticlesToLevelSet), half width 3, at
@@ -19,7 +22,7 @@
 // With --markdown FILE the program also writes its results as a Markdown table to FILE and
 // one overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
 //
-// Usage: vdb_bench_mesh [--cases sphere:256:10000,wuson:512,...]
+// Usage: vdb_bench_mesh [--cases sphere:256:10000,PLY/Wuson.ply:512,...]
 //                       [--particles 1024:100000,...] [--reps 3] [--threads 1,all]
 //                       [--markdown FILE]
 
@@ -41,6 +44,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <string>
@@ -72,9 +76,15 @@ double timeMs(int reps, const std::function<uint64_t()>& op, uint64_t& active) {
 
 // ---- Inputs ----
 
-constexpr const char* kWuson = "/usr/share/assimp/models/PLY/Wuson.ply";
+constexpr const char* kModels = "/usr/share/assimp/models/";
 
-/// A closed mesh: `shape` with about `triangles` triangles in the unit box, or Wuson.ply.
+/// True for a case's first part that names a model file rather than a generated shape.
+bool isModel(const std::string& shape) {
+    return shape == "wuson" || shape.find('.') != std::string::npos;
+}
+
+/// A generated closed mesh (`shape` with about `triangles` triangles in the unit box), or a
+/// model of assimp-testmodels.
 vdb::test::TestMesh makeMesh(const std::string& shape, int triangles) {
     if (shape == "sphere") {
         // 2 * segments * (rings - 1) triangles with segments = 2 * rings.
@@ -86,11 +96,19 @@ vdb::test::TestMesh makeMesh(const std::string& shape, int triangles) {
         const int tube = std::max(3, int(std::lround(std::sqrt(triangles / 6.0))));
         return vdb::test::makeTorusMesh(vdb::Vec3d(0.5), 0.3, 0.1, 3 * tube, tube);
     }
-    if (shape == "wuson") {
-        const vdb::meshio::Mesh read = vdb::meshio::readMesh(kWuson);
-        return {read.points, read.triangles, read.quads};
+    if (isModel(shape)) {
+        const std::string path =
+            std::string(kModels) + (shape == "wuson" ? std::string("PLY/Wuson.ply") : shape);
+        try {
+            const vdb::meshio::Mesh read = vdb::meshio::readMesh(path);
+            return {read.points, read.triangles, read.quads};
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "%s\n", e.what());
+            std::exit(2);
+        }
     }
-    std::fprintf(stderr, "unknown mesh shape '%s' (sphere, torus or wuson)\n", shape.c_str());
+    std::fprintf(stderr, "unknown mesh shape '%s' (sphere, torus or a model path)\n",
+                 shape.c_str());
     std::exit(2);
 }
 
@@ -110,6 +128,19 @@ uint64_t vdbMesh(const vdb::test::TestMesh& mesh, double voxelSize) {
     return vdb::tools::meshToLevelSet<vdb::FloatGrid>(*xform, mesh.points, mesh.triangles,
                                                       mesh.quads, 3.0f)
         ->activeVoxelCount();
+}
+
+/// How this library's default signs the mesh: "flood" for a closed mesh, "winding (N open
+/// loops)" otherwise (MeshToVolumeReport of one conversion at a coarse voxel size).
+std::string signsOf(const vdb::test::TestMesh& mesh, double voxelSize) {
+    const auto xform = vdb::math::Transform::createLinearTransform(voxelSize);
+    vdb::tools::MeshToVolumeReport report;
+    vdb::tools::meshToVolume<vdb::FloatGrid>(*xform, mesh.points, mesh.triangles, mesh.quads, {},
+                                             &report);
+    if (report.sign == vdb::tools::MeshSign::FloodFill)
+        return "flood";
+    return "winding (" + std::to_string(report.holes) +
+           (report.holes == 1 ? " open loop)" : " open loops)");
 }
 
 struct OpenVdbMesh {
@@ -187,7 +218,7 @@ long parsePositive(const std::string& s, const char* what) {
 
 void printRow(const char* what, const std::string& input, int res, int threads, double ours,
               double theirs, uint64_t activeOurs, uint64_t activeTheirs) {
-    std::printf("%-9s %-16s %5d %7d %10.1f %10.1f %6.2f  %llu / %llu active\n", what, input.c_str(),
+    std::printf("%-9s %-24s %5d %7d %10.1f %10.1f %6.2f  %llu / %llu active\n", what, input.c_str(),
                 res, threads, ours, theirs, ours / theirs, (unsigned long long)activeOurs,
                 (unsigned long long)activeTheirs);
     std::fflush(stdout);
@@ -218,8 +249,8 @@ std::string countText(uint64_t count) {
 /// named on the first row only (later rows repeat the counts only where they differ).
 class CaseRows {
 public:
-    CaseRows(std::string tool, std::string input, int res)
-        : mTool(std::move(tool)), mInput(std::move(input)), mRes(res) {}
+    CaseRows(std::string tool, std::string input, std::string signs, int res)
+        : mTool(std::move(tool)), mInput(std::move(input)), mSigns(std::move(signs)), mRes(res) {}
 
     void add(int threads, double ours, double theirs, uint64_t activeOurs, uint64_t activeTheirs,
              std::vector<vdb::bench::MarkdownReport::Row>& rows) {
@@ -232,14 +263,14 @@ public:
             mFirst = false;
         }
         rows.push_back(
-            {first ? mTool : "", first ? mInput : "", std::to_string(mRes), std::to_string(threads),
-             fmt(ours, 1), fmt(theirs, 1),
+            {first ? mTool : "", first ? mInput : "", first ? mSigns : "", std::to_string(mRes),
+             std::to_string(threads), fmt(ours, 1), fmt(theirs, 1),
              vdb::bench::ratioCell(ours / theirs, mTool == "mesh" ? kTarget : 0.0),
              sameActive ? "" : fmt(double(activeOurs), 0) + " / " + fmt(double(activeTheirs), 0)});
     }
 
 private:
-    std::string mTool, mInput;
+    std::string mTool, mInput, mSigns;
     int mRes;
     bool mFirst = true;
     uint64_t mActiveOurs = 0, mActiveTheirs = 0;
@@ -248,9 +279,20 @@ private:
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::vector<std::string> cases{"sphere:256:10000",    "torus:256:100000",  "wuson:256",
-                                   "sphere:512:100000",   "torus:512:1000000", "wuson:512",
-                                   "sphere:1024:1000000", "wuson:1024"};
+    std::vector<std::string> cases{"sphere:256:10000",
+                                   "torus:256:100000",
+                                   "sphere:512:100000",
+                                   "torus:512:1000000",
+                                   "sphere:1024:1000000",
+                                   "PLY/Wuson.ply:512",
+                                   "PLY/Wuson.ply:1024",
+                                   "OBJ/spider.obj:512",
+                                   "OBJ/spider.obj:1024",
+                                   "OBJ/regr01.obj:512",
+                                   "OBJ/regr01.obj:1024",
+                                   "STL/sphereWithHole.stl:512",
+                                   "STL/sphereWithHole.stl:1024",
+                                   "STL/Spider_binary.stl:512"};
     std::vector<std::string> particles{"1024:100000", "1024:1000000"};
     int reps = 3;
     std::vector<std::string> threads{"1", "all"};
@@ -278,13 +320,13 @@ int main(int argc, char** argv) {
     openvdb::initialize();
     std::printf("# vdb_bench_mesh: medians of %d runs, milliseconds; ratio = vdb / openvdb\n",
                 reps);
-    std::printf("%-9s %-16s %5s %7s %10s %10s %6s  %s\n", "tool", "input", "res", "threads", "vdb",
+    std::printf("%-9s %-24s %5s %7s %10s %10s %6s  %s\n", "tool", "input", "res", "threads", "vdb",
                 "openvdb", "ratio", "active voxels vdb / openvdb");
     std::vector<vdb::bench::MarkdownReport::Row> rows;
     vdb::bench::RatioRange meshRatios, particleRatios;
     for (const std::string& c : cases) {
         const auto parts = splitList(c, ':');
-        if (parts.size() != (parts.empty() || parts[0] != "wuson" ? 3u : 2u))
+        if (parts.size() != (parts.empty() || !isModel(parts[0]) ? 3u : 2u))
             usage(("bad case " + c).c_str());
         const int res = int(parsePositive(parts[1], "resolution"));
         const auto mesh =
@@ -292,11 +334,12 @@ int main(int argc, char** argv) {
         const double voxelSize = voxelSizeFor(mesh, res);
         const OpenVdbMesh theirMesh(mesh);
         const size_t triangles = mesh.triangles.size() + 2 * mesh.quads.size();
-        const std::string input = parts[0] + " " + std::to_string(triangles);
-        CaseRows caseRows("mesh",
-                          (parts[0] == "wuson" ? std::string("Wuson.ply") : parts[0]) + ", " +
-                              fmt(double(triangles), 0) + " triangles",
-                          res);
+        const std::string name = parts[0] == "wuson"
+                                     ? std::string("Wuson.ply")
+                                     : parts[0].substr(parts[0].find_last_of('/') + 1);
+        const std::string input = name + " " + std::to_string(triangles);
+        CaseRows caseRows("mesh", name + ", " + fmt(double(triangles), 0) + " triangles",
+                          signsOf(mesh, voxelSizeFor(mesh, 64)), res);
         for (const std::string& t : threads) {
             const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
@@ -323,7 +366,8 @@ int main(int argc, char** argv) {
             theirs.positions.emplace_back(p[0], p[1], p[2]);
             theirs.radii.push_back(spheres.radii[n]);
         }
-        CaseRows caseRows("particles", "torus-knot-helix, " + countText(count) + " spheres", res);
+        CaseRows caseRows("particles", "torus-knot-helix, " + countText(count) + " spheres", "",
+                          res);
         for (const std::string& t : threads) {
             const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
@@ -349,7 +393,7 @@ int main(int argc, char** argv) {
                   "machine has %d hardware threads.",
                   reps, kTarget, cores);
     md.paragraph(line);
-    md.table({"tool", "input", "res", "threads", "vdb ms", "OpenVDB ms", "ratio",
+    md.table({"tool", "input", "signs", "res", "threads", "vdb ms", "OpenVDB ms", "ratio",
               "active voxels vdb / OpenVDB"},
              rows);
     md.status(meshRatios.status("mesh", kTarget));

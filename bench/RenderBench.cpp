@@ -31,6 +31,11 @@
 // light) against OpenVDB's tools::rayTrace (LevelSetRayTracer with a DiffuseShader, one sample
 // a pixel), in pixels per second.
 //
+// With --fog-samples DIR and --vdb-tool PATH the program also compares fog volume rendering,
+// tool against tool: this library's `vdb render` against OpenVDB's `vdb_render` on the .vdb
+// files of DIR (bench/FogToolComparison.h), --fog-reps runs each at --fog-size, keeping the
+// last pictures in --fog-pictures DIR. --scenes none skips the level set part.
+//
 // With --markdown FILE the program also writes its results as Markdown tables to FILE and one
 // overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
 //
@@ -39,7 +44,9 @@
 // scripts/render-docs renders with `vdb render` into the pictures of docs/.
 //
 // Usage: vdb_bench_render [--res 512,1024] [--size 1024x1024] [--reps 5]
-//                         [--scenes sphere,torus,wuson] [--threads 1,all] [--markdown FILE]
+//                         [--scenes sphere,torus,wuson|none] [--threads 1,all] [--markdown FILE]
+//                         [--fog-samples DIR --vdb-tool PATH [--vdb-render PATH]
+//                          [--fog-size 960x720] [--fog-reps 3] [--fog-pictures DIR]]
 //                         [--write-scenes DIR]
 
 #include <vdb/io/File.h>
@@ -58,6 +65,7 @@
 #endif
 
 #include "BenchCommon.h"
+#include "FogToolComparison.h"
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/RayIntersector.h>
@@ -247,11 +255,7 @@ struct OpenVdb {
 
 using Clock = std::chrono::steady_clock;
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using vdb::bench::median;
 
 /// The hits of one pass: per pixel, whether the ray hit and where (world space).
 struct Hits {
@@ -423,8 +427,9 @@ int writeScenes(const std::string& dir) {
 [[noreturn]] void usage(const char* message) {
     std::fprintf(stderr,
                  "%s\nusage: vdb_bench_render [--res 512,1024] [--size 1024x1024] [--reps 5] "
-                 "[--scenes sphere,torus,wuson] [--threads 1,all] [--markdown FILE] "
-                 "[--write-scenes DIR]\n",
+                 "[--scenes sphere,torus,wuson|none] [--threads 1,all] [--markdown FILE] "
+                 "[--fog-samples DIR --vdb-tool PATH [--vdb-render PATH] [--fog-size WxH] "
+                 "[--fog-reps N] [--fog-pictures DIR]] [--write-scenes DIR]\n",
                  message);
     std::exit(2);
 }
@@ -444,6 +449,8 @@ int main(int argc, char** argv) {
     size_t width = 1024, height = 1024;
     std::vector<std::string> scenes{"sphere", "torus", "wuson"}, threads{"1", "all"};
     std::string scenesDir, markdownPath;
+    vdb::bench::FogToolOptions fog;
+    fog.pictures = "fog-pictures";
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         if (i + 1 >= argc)
@@ -464,13 +471,29 @@ int main(int argc, char** argv) {
             width = size_t(parsePositive(wh[0], "width"));
             height = size_t(parsePositive(wh[1], "height"));
         } else if (arg == "--scenes") {
-            scenes = vdb::bench::splitList(value);
+            scenes = value == "none" ? std::vector<std::string>{} : vdb::bench::splitList(value);
         } else if (arg == "--threads") {
             threads = vdb::bench::splitList(value);
         } else if (arg == "--markdown") {
             markdownPath = value;
         } else if (arg == "--write-scenes") {
             scenesDir = value;
+        } else if (arg == "--fog-samples") {
+            fog.samples = value;
+        } else if (arg == "--vdb-tool") {
+            fog.vdbTool = value;
+        } else if (arg == "--vdb-render") {
+            fog.vdbRender = value;
+        } else if (arg == "--fog-pictures") {
+            fog.pictures = value;
+        } else if (arg == "--fog-reps") {
+            fog.reps = parsePositive(value, "repetition count");
+        } else if (arg == "--fog-size") {
+            const auto wh = vdb::bench::splitList(value, 'x');
+            if (wh.size() != 2)
+                usage("--fog-size takes WxH");
+            fog.width = size_t(parsePositive(wh[0], "width"));
+            fog.height = size_t(parsePositive(wh[1], "height"));
         } else {
             usage(("unknown argument " + arg).c_str());
         }
@@ -645,34 +668,48 @@ int main(int argc, char** argv) {
             rows.insert(rows.end(), intersectionRows.begin(), intersectionRows.end());
             rows.insert(rows.end(), rendererRows.begin(), rendererRows.end());
         }
+    // Fog volumes, tool against tool (its own tables, after the level set ones).
+    constexpr double kFogTarget = 0.8;  // at most 0.8 of vdb_render's time
+    vdb::bench::MarkdownReport fogMd;
+    vdb::bench::RatioRange fogRatios;
+    bool fogOk = true;
+    const bool fogRun = !fog.samples.empty();
+    if (fogRun) {
+        if (fog.vdbTool.empty())
+            usage("--fog-samples needs --vdb-tool");
+        fogOk = vdb::bench::compareFogTools(fog, fogMd, fogRatios, kFogTarget);
+    }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());
     if (markdownPath.empty())
-        return agree ? 0 : 1;
+        return agree && fogOk ? 0 : 1;
 
     vdb::bench::MarkdownReport md;
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "%zux%zu rays, resolution %s, medians of %d passes. Intersection rows: million "
-                  "rays per wall-clock second and per CPU second of the process (all threads "
-                  "together); renderer rows: million pixels per wall-clock second of whole "
-                  "pictures. Ratio = vdb / OpenVDB, in bold where it reaches the target (at "
-                  "least %.2f). The machine has %d hardware threads.",
-                  width, height, resText.c_str(), reps, kTarget, cores);
-    md.paragraph(line);
-    md.table({"scene", "res", "threads", "vdb Mrays/s", "OpenVDB Mrays/s", "ratio",
-              "vdb Mrays/CPU s", "OpenVDB Mrays/CPU s", "ratio (CPU)", "hit pixels"},
-             rows);
-    for (const std::string& note : notes)
-        md.paragraph(note);
-    md.paragraph(
-        "Hits of the intersection passes compared pixel by pixel: pixels hit by one "
-        "library only, and the largest distance between the two hit points of a pixel "
-        "hit by both, in voxels; then the surface pixels of the two renderers.");
-    md.table({"scene", "res", "threads", "hit pixels vdb / OpenVDB", "pixels hit by one only",
-              "max hit-point distance (voxels)", "renderer surface pixels vdb / OpenVDB"},
-             checks);
-    if (!agree)
-        md.paragraph("**More than 0.1 % of the pixels were hit by one library only.**");
+    if (!rows.empty()) {
+        std::snprintf(
+            line, sizeof line,
+            "%zux%zu rays, resolution %s, medians of %d passes. Intersection rows: million "
+            "rays per wall-clock second and per CPU second of the process (all threads "
+            "together); renderer rows: million pixels per wall-clock second of whole "
+            "pictures. Ratio = vdb / OpenVDB, in bold where it reaches the target (at "
+            "least %.2f). The machine has %d hardware threads.",
+            width, height, resText.c_str(), reps, kTarget, cores);
+        md.paragraph(line);
+        md.table({"scene", "res", "threads", "vdb Mrays/s", "OpenVDB Mrays/s", "ratio",
+                  "vdb Mrays/CPU s", "OpenVDB Mrays/CPU s", "ratio (CPU)", "hit pixels"},
+                 rows);
+        for (const std::string& note : notes)
+            md.paragraph(note);
+        md.paragraph(
+            "Hits of the intersection passes compared pixel by pixel: pixels hit by one "
+            "library only, and the largest distance between the two hit points of a pixel "
+            "hit by both, in voxels; then the surface pixels of the two renderers.");
+        md.table({"scene", "res", "threads", "hit pixels vdb / OpenVDB", "pixels hit by one only",
+                  "max hit-point distance (voxels)", "renderer surface pixels vdb / OpenVDB"},
+                 checks);
+        if (!agree)
+            md.paragraph("**More than 0.1 % of the pixels were hit by one library only.**");
+    }
 
     // One overview line: both ranges, and whether every ratio reaches the target.
     vdb::bench::RatioRange all = intersectionRatios;
@@ -686,10 +723,17 @@ int main(int argc, char** argv) {
                       all.min() >= kTarget ? "met" : "not met");
         status += line;
     }
-    md.status(status);
+    if (!rows.empty())
+        md.status(status);
     if (!agree)
         md.status("hits differ");
+    if (fogRun) {
+        md.paragraph(fogMd.text());
+        md.status(fogRatios.status("fog vs vdb_render", kFogTarget));
+        if (!fogOk)
+            md.status("a fog render failed");
+    }
     if (!md.write(markdownPath))
         return 1;
-    return agree ? 0 : 1;
+    return agree && fogOk ? 0 : 1;
 }

@@ -1,15 +1,21 @@
 // SPDX-License-Identifier: Apache-2.0
-// Writes the fuzzer's seed corpus: small .vdb files of every standard grid type in every
-// compression setting, with and without half floats, with tiles at every level, instances,
-// metadata and several grids per file (each file a few kilobytes).
-// Usage: vdb_fuzz_seed_corpus <output folder>
+// Writes the fuzzers' seed corpora: for the .vdb reader, small .vdb files of every standard
+// grid type in every compression setting, with and without half floats, with tiles at every
+// level, instances, metadata and several grids per file (each file a few kilobytes); for the
+// mesh reader (second folder), a tetrahedron and a quad in every mesh format, each file
+// prefixed with the byte that picks its extension (MeshReaderFuzz.cpp).
+// Usage: vdb_fuzz_seed_corpus <.vdb output folder> [<mesh output folder>]
 
 #include <vdb/Grid.h>
 #include <vdb/io/File.h>
 #include <vdb/math/Transform.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -40,12 +46,85 @@ void write(const std::filesystem::path& dir, const std::string& name, vdb::GridP
     file.write(grids, meta);
 }
 
+template <typename T>
+void append(std::string& out, T value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    out.append(bytes, sizeof(T));
+}
+
+/// Writes the mesh seeds: one file per format, its first byte the extension index of
+/// MeshReaderFuzz.cpp (0 .obj, 1 .ply, 2 .stl, 3 .off).
+int writeMeshSeeds(const std::filesystem::path& dir) {
+    std::filesystem::create_directories(dir);
+    const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    const auto save = [&](const std::string& name, char extension, const std::string& bytes) {
+        std::ofstream(dir / name, std::ios::binary) << extension << bytes;
+    };
+    std::ostringstream obj, plyAscii, off, stlAscii;
+    for (const auto& v : p)
+        obj << "v " << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    obj << "vn 0 0 1\nvt 0 0\nf 1/1/1 3/1/1 2/1/1\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 2 3 4\n";
+    save("tet.obj.seed", 0, obj.str());
+    plyAscii << "ply\nformat ascii 1.0\ncomment seed\nelement vertex 4\nproperty float x\n"
+                "property float y\nproperty float z\nelement face 4\n"
+                "property list uchar int vertex_indices\nend_header\n";
+    for (const auto& v : p)
+        plyAscii << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    for (const auto& t : f)
+        plyAscii << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    save("tet-ascii.ply.seed", 1, plyAscii.str());
+    std::string plyBinary =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 4\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    for (const auto& v : p)
+        for (float c : v)
+            append(plyBinary, c);
+    for (const auto& t : f) {
+        append(plyBinary, uint8_t(3));
+        for (int i : t)
+            append(plyBinary, int32_t(i));
+    }
+    save("tet-binary.ply.seed", 1, plyBinary);
+    std::string stlBinary(80, ' ');
+    append(stlBinary, uint32_t(4));
+    stlAscii << "solid seed\n";
+    for (const auto& t : f) {
+        for (int k = 0; k < 3; ++k)
+            append(stlBinary, 0.0f);
+        stlAscii << " facet normal 0 0 0\n  outer loop\n";
+        for (int i : t) {
+            for (float c : p[i])
+                append(stlBinary, c);
+            stlAscii << "   vertex " << p[i][0] << ' ' << p[i][1] << ' ' << p[i][2] << '\n';
+        }
+        append(stlBinary, uint16_t(0));
+        stlAscii << "  endloop\n endfacet\n";
+    }
+    stlAscii << "endsolid seed\n";
+    save("tet-binary.stl.seed", 2, stlBinary);
+    save("tet-ascii.stl.seed", 2, stlAscii.str());
+    off << "OFF\n4 4 6\n";
+    for (const auto& v : p)
+        off << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+    for (const auto& t : f)
+        off << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    save("tet.off.seed", 3, off.str());
+    return 6;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2) {
-        std::fprintf(stderr, "usage: %s <output folder>\n", argv[0]);
+    if (argc != 2 && argc != 3) {
+        std::fprintf(stderr, "usage: %s <.vdb output folder> [<mesh output folder>]\n", argv[0]);
         return 2;
+    }
+    if (argc == 3) {
+        const int meshes = writeMeshSeeds(argv[2]);
+        std::printf("%d mesh seed files in %s\n", meshes, argv[2]);
     }
     using namespace vdb;
     const std::filesystem::path dir(argv[1]);

@@ -2,11 +2,14 @@
 /// @file
 /// `vdb demo`: the pipeline of the paper in one run. The torus-knot-helix of Fig. 8 from a
 /// million spheres and a polygon mesh become level sets, their CSG union is written to a
-/// `.vdb` file and rendered to a PNG picture, each step timed.
+/// `.vdb` file, meshed back to polygons in a PLY file and rendered to a PNG picture, each step
+/// timed.
 
+#include <vdb/meshio/MeshWriter.h>
 #include <vdb/render/Camera.h>
 #include <vdb/render/Renderer.h>
 #include <vdb/tools/Composite.h>
+#include <vdb/tools/VolumeToMesh.h>
 
 #include "Commands.h"
 #include "Geometry.h"
@@ -16,6 +19,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <sstream>
 
 namespace vdb::app {
 namespace {
@@ -66,18 +70,21 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
         std::string mesh;
         size_t width = 1280;
         size_t height = 960;
+        double adaptivity = 0.5;
     };
     auto args = std::make_shared<Args>();
     CLI::App* cmd = addCommand(
         app, ctx, "demo",
-        "The whole pipeline: spheres and a mesh to level sets, CSG, a .vdb file and a PNG", true,
-        [args, &ctx] {
+        "The whole pipeline: spheres and a mesh to level sets, CSG, a .vdb file, a mesh and a "
+        "PNG",
+        true, [args, &ctx] {
             const Args& a = *args;
             namespace fs = std::filesystem;
             if (!fs::is_directory(a.folder))
                 throw UsageError("output folder " + a.folder + " does not exist");
             const std::string vdbPath = (fs::path(a.folder) / "demo.vdb").string();
             const std::string pngPath = (fs::path(a.folder) / "demo.png").string();
+            const std::string plyPath = (fs::path(a.folder) / "demo.ply").string();
             const auto start = std::chrono::steady_clock::now();
             const double voxelSize = 1.0 / a.resolution;
             const float halfWidth = 3.0f;
@@ -110,9 +117,8 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
                 for (Vec3s& p : mesh.points)
                     p = Vec3s(p[0], -p[2], p[1]);
             fitMesh(mesh, 0.5, Vec3d(0.5, 0.5, 0.5));
-            FloatGrid::Ptr surface = meshToGrid(
-                report, mesh, voxelSize, halfWidth,
-                meshName.empty() ? tools::MeshSign::FloodFill : tools::MeshSign::WindingNumber);
+            FloatGrid::Ptr surface =
+                meshToGrid(report, mesh, voxelSize, halfWidth, tools::MeshSign::Auto);
             surface->setName("mesh");
             report.note("  mesh: " + withCommas(surface->activeVoxelCount()) + " active voxels, " +
                         bytesText(surface->memUsage()));
@@ -127,7 +133,16 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             report.note("  union: " + withCommas(both->activeVoxelCount()) + " active voxels, " +
                         withCommas(both->leafCount()) + " leaves");
 
-            // 4. A picture of the union, made before anything is written.
+            // 4. The union back to polygons.
+            meshio::Mesh polygons;
+            std::ostringstream meshLabel;
+            meshLabel << "mesh the union (adaptivity " << a.adaptivity << ")";
+            report.step(meshLabel.str(), [&] {
+                tools::volumeToMesh(*both, polygons.points, polygons.triangles, polygons.quads, 0.0,
+                                    a.adaptivity);
+            });
+
+            // 5. A picture of the union, made before anything is written.
             const CoordBBox bbox = both->evalActiveVoxelBoundingBox();
             const BBoxd worldBox = both->transform().indexToWorld(bbox);
             const auto camera = render::PerspectiveCamera::frame(
@@ -139,15 +154,21 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
                 report.step("ray-trace " + std::to_string(a.width) + "x" + std::to_string(a.height),
                             [&] { return render::renderLevelSet(*both, camera, settings); });
 
-            // 5. The .vdb file (the three grids, blosc and active-mask compression) and the PNG.
+            // 6. The .vdb file (the three grids, blosc and active-mask compression), the union's
+            //    mesh as PLY, and the PNG.
             writeGrids(vdbPath, {helix, surface, both},
                        io::COMPRESS_BLOSC | io::COMPRESS_ACTIVE_MASK);
             report.note("  wrote " + vdbPath + " (" + bytesText(fs::file_size(vdbPath)) + ")");
+            report.step("write " + plyPath, [&] { meshio::writeMesh(plyPath, polygons); });
+            report.note("  wrote " + plyPath + " (" +
+                        withCommas(polygons.quads.size() + polygons.triangles.size()) +
+                        " polygons, " + bytesText(fs::file_size(plyPath)) + ")");
             report.step("write " + pngPath, [&] { writePng(pngPath, image); });
 
             const double total =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            report.note("demo done in " + secondsText(total) + ": " + vdbPath + ", " + pngPath);
+            report.note("demo done in " + secondsText(total) + ": " + vdbPath + ", " + plyPath +
+                        ", " + pngPath);
             report.json()
                 .key("spheres")
                 .value(static_cast<uint64_t>(a.spheres))
@@ -161,11 +182,15 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
                 .value(vdbPath)
                 .key("png")
                 .value(pngPath)
+                .key("ply")
+                .value(plyPath)
+                .key("polygons")
+                .value(static_cast<uint64_t>(polygons.quads.size() + polygons.triangles.size()))
                 .key("seconds")
                 .value(total);
             report.finish();
         });
-    cmd->add_option("-o,--output-dir", args->folder, "Folder for demo.vdb and demo.png")
+    cmd->add_option("-o,--output-dir", args->folder, "Folder for demo.vdb, demo.ply and demo.png")
         ->capture_default_str();
     cmd->add_option("--spheres", args->spheres, "Spheres along the torus-knot-helix")
         ->check(CLI::Range(size_t(1), size_t(20'000'000)))
@@ -176,6 +201,10 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
     cmd->add_option("--mesh", args->mesh,
                     std::string("Mesh file (default: ") + kShippedMesh +
                         " when installed, else a generated torus)");
+    cmd->add_option("--adaptivity", args->adaptivity,
+                    "Adaptivity of demo.ply, the union as polygons (0: a quad per surface voxel)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     cmd->add_option("--width", args->width, "Picture width in pixels")
         ->check(CLI::Range(16, 8192))
         ->capture_default_str();

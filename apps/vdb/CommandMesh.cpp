@@ -6,6 +6,8 @@
 #include "Geometry.h"
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 namespace vdb::app {
 namespace {
@@ -23,6 +25,73 @@ double meshArea(const meshio::Mesh& mesh) {
     return area;
 }
 
+/// The --sign names, in the order of tools::MeshSign.
+constexpr std::pair<const char*, tools::MeshSign> kSignNames[] = {
+    {"auto", tools::MeshSign::Auto},
+    {"flood", tools::MeshSign::FloodFill},
+    {"winding", tools::MeshSign::WindingNumber},
+    {"robust", tools::MeshSign::WindingNumber},  // the earlier name of "winding"
+    {"unsigned", tools::MeshSign::Unsigned},
+};
+
+tools::MeshSign signByName(const std::string& name) {
+    for (const auto& [n, sign] : kSignNames) {
+        if (name == n)
+            return sign;
+    }
+    throw UsageError("unknown --sign " + name);
+}
+
+const char* signName(tools::MeshSign sign) {
+    for (const auto& [n, s] : kSignNames) {
+        if (s == sign)
+            return n;
+    }
+    return "auto";
+}
+
+/// "12 boundary edges, 3 non-manifold edges" for the counts that are not 0, or "".
+std::string edgeDefects(const tools::MeshToVolumeReport& r) {
+    std::string text;
+    const auto add = [&](size_t n, const char* what) {
+        if (n > 0)
+            text += (text.empty() ? "" : ", ") + withCommas(n) + " " + what;
+    };
+    add(r.boundaryEdges, r.boundaryEdges == 1 ? "boundary edge" : "boundary edges");
+    add(r.nonManifoldEdges, r.nonManifoldEdges == 1 ? "non-manifold edge" : "non-manifold edges");
+    add(r.misorientedEdges, r.misorientedEdges == 1
+                                ? "edge between faces of opposite orientation"
+                                : "edges between faces of opposite orientation");
+    return text;
+}
+
+/// Why the converter signed the mesh the way it did, in a line.
+std::string signReason(tools::MeshSign asked, const tools::MeshToVolumeReport& r) {
+    if (r.sign == tools::MeshSign::Unsigned)
+        return "unsigned distances (asked for)";
+    std::string mesh;
+    const std::string defects = edgeDefects(r);
+    if (r.holes == 0) {
+        mesh = defects.empty() ? "mesh is closed and consistently oriented"
+                               : "mesh is closed (" + defects + ")";
+    } else {
+        mesh = withCommas(r.holes) + (r.holes == 1 ? " open loop" : " open loops") + " (" +
+               defects + ")";
+    }
+    if (r.flippedFaces > 0) {
+        mesh += ", " + withCommas(r.flippedFaces) +
+                (r.flippedFaces == 1 ? " face turned to agree with its neighbours"
+                                     : " faces turned to agree with their neighbours");
+    }
+    if (r.mergedPoints > 0)
+        mesh += ", " + withCommas(r.mergedPoints) + " coincident points welded";
+    const char* method = r.sign == tools::MeshSign::FloodFill
+                             ? (r.holes == 0 ? "flood fill" : "flood fill by crossing parity")
+                             : (r.holes == 0 ? "winding numbers (exact crossing counts)"
+                                             : "winding numbers near the holes");
+    return mesh + ": " + method + (asked == tools::MeshSign::Auto ? "" : " (asked for)");
+}
+
 }  // namespace
 
 BBoxd meshBounds(const meshio::Mesh& mesh) {
@@ -33,7 +102,7 @@ BBoxd meshBounds(const meshio::Mesh& mesh) {
 }
 
 FloatGrid::Ptr meshToGrid(Report& report, const meshio::Mesh& mesh, double voxelSize,
-                          float halfWidth, tools::MeshSign sign) {
+                          float halfWidth, tools::MeshSign sign, tools::MeshToVolumeReport* found) {
     // Band voxels: about the area in voxels times the band's width, each ~5 bytes in the
     // grid plus the converter's per-voxel scratch; the interior is filled with tiles.
     const double area = meshArea(mesh) / (voxelSize * voxelSize);
@@ -46,7 +115,7 @@ FloatGrid::Ptr meshToGrid(Report& report, const meshio::Mesh& mesh, double voxel
     return report.step(
         "scan-convert " + withCommas(mesh.triangles.size() + mesh.quads.size()) + " faces", [&] {
             return tools::meshToVolume<FloatGrid>(*xform, mesh.points, mesh.triangles, mesh.quads,
-                                                  options);
+                                                  options, found);
         });
 }
 
@@ -57,7 +126,7 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
         double voxelSize = 0;
         int resolution = 0;
         float halfWidth = 3.0f;
-        std::string sign = "flood";
+        std::string sign = "auto";
         std::string name = "surface";
     };
     auto args = std::make_shared<Args>();
@@ -89,11 +158,12 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
                         numberText(voxelSize) + " (" +
                         std::to_string(int(std::ceil(extent / voxelSize))) +
                         " voxels across the largest side)");
-            const tools::MeshSign sign = a.sign == "robust"     ? tools::MeshSign::WindingNumber
-                                         : a.sign == "unsigned" ? tools::MeshSign::Unsigned
-                                                                : tools::MeshSign::FloodFill;
-            FloatGrid::Ptr grid = meshToGrid(report, mesh, voxelSize, a.halfWidth, sign);
+            const tools::MeshSign sign = signByName(a.sign);
+            tools::MeshToVolumeReport found;
+            FloatGrid::Ptr grid = meshToGrid(report, mesh, voxelSize, a.halfWidth, sign, &found);
             grid->setName(a.name);
+            const std::string reason = signReason(sign, found);
+            report.note("  signs: " + reason);
             report.note("  " + withCommas(grid->activeVoxelCount()) + " active voxels in " +
                         withCommas(grid->leafCount()) + " leaves, " + bytesText(grid->memUsage()) +
                         " in memory");
@@ -109,7 +179,23 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
                 .key("activeVoxels")
                 .value(static_cast<uint64_t>(grid->activeVoxelCount()))
                 .key("leaves")
-                .value(static_cast<uint64_t>(grid->leafCount()));
+                .value(static_cast<uint64_t>(grid->leafCount()))
+                .key("sign")
+                .value(signName(found.sign))
+                .key("signReason")
+                .value(reason)
+                .key("mergedPoints")
+                .value(static_cast<uint64_t>(found.mergedPoints))
+                .key("boundaryEdges")
+                .value(static_cast<uint64_t>(found.boundaryEdges))
+                .key("nonManifoldEdges")
+                .value(static_cast<uint64_t>(found.nonManifoldEdges))
+                .key("misorientedEdges")
+                .value(static_cast<uint64_t>(found.misorientedEdges))
+                .key("flippedFaces")
+                .value(static_cast<uint64_t>(found.flippedFaces))
+                .key("holes")
+                .value(static_cast<uint64_t>(found.holes));
             writeOutput(report, a.out, {grid});
             report.finish();
         });
@@ -126,14 +212,16 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
         ->check(finiteRange(1.0, 1000.0))
         ->capture_default_str();
     cmd->add_option("--sign", args->sign,
-                    "flood: closed meshes (parity and flood fill); robust: meshes with holes "
-                    "(generalized winding numbers); unsigned: distances without sign")
-        ->check(CLI::IsMember({"flood", "robust", "unsigned"}))
+                    "auto: chosen from the mesh's edges (flood for closed meshes, winding "
+                    "otherwise); flood: closed meshes (crossing counts and flood fill); "
+                    "winding: generalized winding numbers of the faces as given (meshes with "
+                    "holes; robust is another name for it); unsigned: distances without sign")
+        ->check(CLI::IsMember({"auto", "flood", "winding", "robust", "unsigned"}))
         ->capture_default_str();
     cmd->add_option("-n,--name", args->name, "Grid name")->capture_default_str();
     cmd->footer(
         "Examples:\n  vdb mesh bunny.ply -o bunny.vdb --resolution 512\n"
-        "  vdb mesh scan.stl -o scan.vdb --voxel-size 0.5 --sign robust --half-width 4");
+        "  vdb mesh scan.stl -o scan.vdb --voxel-size 0.5 --half-width 4 --json");
 }
 
 }  // namespace vdb::app

@@ -18,5 +18,7 @@ void addRenderCommand(CLI::App& app, Context& ctx);
 void addMeshCommand(CLI::App& app, Context& ctx);
 void addSpheresCommand(CLI::App& app, Context& ctx);
 void addDemoCommand(CLI::App& app, Context& ctx);
+void addToMeshCommand(CLI::App& app, Context& ctx);
+void addRebuildCommand(CLI::App& app, Context& ctx);
 
 }  // namespace vdb::app

@@ -19,9 +19,11 @@ namespace vdb::app {
 BBoxd meshBounds(const meshio::Mesh& mesh);
 
 /// A level set of `mesh` (signed as `sign` says) with voxels of `voxelSize` and a band of
-/// 2 * halfWidth voxels, converted as the report step "scan-convert N faces".
+/// 2 * halfWidth voxels, converted as the report step "scan-convert N faces"; `found`, if
+/// given, receives what the converter found in the mesh's edges and the sign mode it used.
 FloatGrid::Ptr meshToGrid(Report& report, const meshio::Mesh& mesh, double voxelSize,
-                          float halfWidth, tools::MeshSign sign);
+                          float halfWidth, tools::MeshSign sign,
+                          tools::MeshToVolumeReport* found = nullptr);
 
 /// A level set of the union of `spheres` with voxels of `voxelSize` and a band of
 /// 2 * halfWidth voxels, as the report step "rasterize N spheres"; notes how many spheres

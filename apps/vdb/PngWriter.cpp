@@ -5,6 +5,7 @@
 #include <vdb/Exceptions.h>
 #include <vdb/util/OutputFile.h>
 
+#include "ImageFiles.h"
 #include <png.h>
 
 #include <cstdint>

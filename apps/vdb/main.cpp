@@ -16,6 +16,7 @@ namespace {
 const char* const kFooter = R"(Examples:
   vdb demo                      (spheres and a mesh to level sets, CSG, .vdb, PNG)
   vdb mesh bunny.ply -o bunny.vdb --resolution 512
+  vdb tomesh bunny.vdb -o bunny.ply --adaptivity 0.3
   vdb spheres -o helix.vdb --count 1000000
   vdb render bunny.vdb -o bunny.png
   vdb sphere -o sphere.vdb --radius 1 --voxel-size 0.01
@@ -48,11 +49,13 @@ int main(int argc, char** argv) {
     addDemoCommand(app, ctx);
     addInfoCommand(app, ctx);
     addMeshCommand(app, ctx);
+    addToMeshCommand(app, ctx);
     addSpheresCommand(app, ctx);
     addSphereCommand(app, ctx);
     addMorphCommands(app, ctx);
     addCsgCommand(app, ctx);
     addAdvectCommands(app, ctx);
+    addRebuildCommand(app, ctx);
     addConvertCommand(app, ctx);
     addRenderCommand(app, ctx);
 

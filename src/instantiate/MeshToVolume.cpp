@@ -9,10 +9,10 @@ namespace vdb::tools {
 template FloatGrid::Ptr meshToVolume<FloatGrid>(const math::Transform&, const std::vector<Vec3s>&,
                                                 const std::vector<Vec3I>&,
                                                 const std::vector<Vec4I>&,
-                                                const MeshToVolumeOptions&);
+                                                const MeshToVolumeOptions&, MeshToVolumeReport*);
 template DoubleGrid::Ptr meshToVolume<DoubleGrid>(const math::Transform&, const std::vector<Vec3s>&,
                                                   const std::vector<Vec3I>&,
                                                   const std::vector<Vec4I>&,
-                                                  const MeshToVolumeOptions&);
+                                                  const MeshToVolumeOptions&, MeshToVolumeReport*);
 
 }  // namespace vdb::tools

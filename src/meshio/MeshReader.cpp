@@ -17,9 +17,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <new>
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace vdb::meshio {
@@ -33,7 +36,9 @@ namespace {
 //
 // assimp's ASCII PLY and OFF readers accept files whose counts do not match their data, that
 // stop early, or whose faces name vertices that do not exist (reading defaults or dropping the
-// faces). These checks walk such files once, by their own counts, before assimp parses them.
+// faces), and its PLY reader reserves memory for the counts its header declares. These checks
+// walk such files once, by their own counts, before assimp parses them, and refuse counts the
+// bytes of the file cannot hold.
 
 /// The numbers of one line, or false when a token is not a number.
 bool parseNumbers(const std::string& line, std::vector<double>& out) {
@@ -86,8 +91,20 @@ void checkVertex(const std::string& path, const std::vector<double>& v, size_t c
     }
 }
 
+/// Fails unless `count` records of at least `recordBytes` bytes each fit in the `bytesLeft`
+/// bytes the file has after its header, so that no reader allocates for records the file
+/// cannot hold.
+void checkCount(const std::string& path, uint64_t count, uint64_t recordBytes, uint64_t bytesLeft,
+                const std::string& what) {
+    if (recordBytes > 0 && count > bytesLeft / recordBytes) {
+        fail(path, "the header declares " + std::to_string(count) + " " + what + " of at least " +
+                       std::to_string(recordBytes) + " bytes each, but only " +
+                       std::to_string(bytesLeft) + " bytes follow it");
+    }
+}
+
 /// OFF: "OFF", then vertex, face and edge counts, the vertices, the faces.
-void checkOff(const std::string& path, std::istream& in) {
+void checkOff(const std::string& path, std::istream& in, uint64_t fileSize) {
     std::string line;
     std::vector<double> v;
     nextDataLine(in, line, "#");  // the OFF keyword, possibly followed by the counts
@@ -97,9 +114,14 @@ void checkOff(const std::string& path, std::istream& in) {
         if (!nextDataLine(in, line, "#") || !parseNumbers(line, v))
             fail(path, "the OFF header has no counts");
     }
-    if (v.size() < 2 || v[0] < 0 || v[1] < 0)
+    if (v.size() < 2 || !(v[0] >= 0 && v[0] < 1.8e19) || !(v[1] >= 0 && v[1] < 1.8e19))
         fail(path, "the OFF header has no valid vertex and face counts");
     const uint64_t vertices = uint64_t(v[0]), faces = uint64_t(v[1]);
+    // A vertex takes at least "0 0 0\n", a face "0\n".
+    const uint64_t left =
+        fileSize - std::min<uint64_t>(fileSize, uint64_t(std::max<std::streamoff>(0, in.tellg())));
+    checkCount(path, vertices, 6, left, "vertices");
+    checkCount(path, faces, 2, left - std::min(left, vertices * 6), "faces");
     for (uint64_t n = 0; n < vertices; ++n) {
         if (!nextDataLine(in, line, "#") || !parseNumbers(line, v))
             fail(path, "the file ends after " + std::to_string(n) + " of " +
@@ -131,16 +153,43 @@ void checkObj(const std::string& path, std::istream& in) {
     }
 }
 
-/// ASCII PLY: the header's elements, each a line per record with its properties in order.
-void checkAsciiPly(const std::string& path, std::istream& in) {
+/// The size in bytes of a PLY scalar type, 0 for an unknown name.
+uint64_t plyTypeBytes(const std::string& type) {
+    for (const auto& [name, bytes] : {std::pair<const char*, uint64_t>{"char", 1},
+                                      {"int8", 1},
+                                      {"uchar", 1},
+                                      {"uint8", 1},
+                                      {"short", 2},
+                                      {"int16", 2},
+                                      {"ushort", 2},
+                                      {"uint16", 2},
+                                      {"int", 4},
+                                      {"int32", 4},
+                                      {"uint", 4},
+                                      {"uint32", 4},
+                                      {"float", 4},
+                                      {"float32", 4},
+                                      {"double", 8},
+                                      {"float64", 8}}) {
+        if (type == name)
+            return bytes;
+    }
+    return 0;
+}
+
+/// PLY: the header's elements must fit in the bytes after it (in binary, each record takes
+/// at least its scalars and list counts; in ASCII, at least two characters per property);
+/// in ASCII, each record is a line with its properties in order.
+void checkPly(const std::string& path, std::istream& in, uint64_t fileSize) {
     struct Element {
         std::string name;
         uint64_t count = 0;
+        uint64_t minBytes = 0;     // binary: the record's size with every list empty
         std::vector<bool> isList;  // per property
         int indexList = -1;        // the vertex_indices / vertex_index list of faces
     };
     std::vector<Element> elements;
-    std::string line;
+    std::string line, format;
     uint64_t vertexCount = 0;
     for (;;) {
         if (!std::getline(in, line))
@@ -150,11 +199,13 @@ void checkAsciiPly(const std::string& path, std::istream& in) {
         words >> word;
         if (word == "end_header")
             break;
-        if (word == "element") {
+        if (word == "format") {
+            words >> format;
+        } else if (word == "element") {
             Element e;
             double count = -1;
             words >> e.name >> count;
-            if (!(count >= 0))
+            if (!(count >= 0 && count < 1.8e19))
                 fail(path, "element " + e.name + " has no valid count");
             e.count = uint64_t(count);
             if (e.name == "vertex")
@@ -169,14 +220,26 @@ void checkAsciiPly(const std::string& path, std::istream& in) {
             if (list) {
                 std::string countType, itemType;
                 words >> countType >> itemType;
+                type = countType;
             }
             words >> name;
             auto& e = elements.back();
             if (list && (name == "vertex_indices" || name == "vertex_index"))
                 e.indexList = int(e.isList.size());
             e.isList.push_back(list);
+            e.minBytes += plyTypeBytes(type);
         }
     }
+    const bool ascii = format == "ascii";
+    uint64_t left =
+        fileSize - std::min<uint64_t>(fileSize, uint64_t(std::max<std::streamoff>(0, in.tellg())));
+    for (const Element& e : elements) {
+        const uint64_t bytes = ascii ? 2 * std::max<uint64_t>(1, e.isList.size()) : e.minBytes;
+        checkCount(path, e.count, bytes, left, e.name + " records");
+        left -= e.count * bytes;
+    }
+    if (!ascii)
+        return;
     std::vector<double> v;
     for (const Element& e : elements) {
         for (uint64_t n = 0; n < e.count; ++n) {
@@ -199,6 +262,25 @@ void checkAsciiPly(const std::string& path, std::istream& in) {
             }
             if (e.name == "vertex")
                 checkVertex(path, v, 3, n);
+        }
+    }
+}
+
+/// Fails when a vertex of the scene, as the file gives it, has a coordinate that is not finite
+/// (before post-processing, which could merge it into a finite one).
+void checkFinite(const std::string& path, const aiScene& scene) {
+    uint64_t vertex = 0;
+    for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+        const aiMesh* mesh = scene.mMeshes[m];
+        if (!mesh || !mesh->mVertices)
+            continue;
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v, ++vertex) {
+            const aiVector3D& p = mesh->mVertices[v];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+                fail(path, "vertex " + std::to_string(vertex) +
+                               " has a coordinate that is not finite (" + std::to_string(p.x) +
+                               ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+            }
         }
     }
 }
@@ -249,6 +331,46 @@ void appendNode(const std::string& path, const aiScene& scene, const aiNode& nod
         appendNode(path, scene, *node.mChildren[c], xform, out, depth + 1);
 }
 
+/// Merges the points of `mesh` that lie at the same position (-0 and +0 alike): assimp merges
+/// identical vertices within each of its meshes, but a file's vertex shared by faces that it
+/// splits into several meshes (triangles and polygons, OBJ groups) arrives once per mesh.
+void weldPoints(Mesh& mesh) {
+    struct Key {
+        float x, y, z;
+        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            const auto bits = [](float f) {
+                uint32_t u = 0;
+                f += 0.0f;  // -0 becomes +0
+                std::memcpy(&u, &f, sizeof u);
+                return size_t(u);
+            };
+            return (bits(k.x) * 73856093u) ^ (bits(k.y) * 19349663u) ^ (bits(k.z) * 83492791u);
+        }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> first;
+    first.reserve(mesh.points.size());
+    std::vector<uint32_t> remap(mesh.points.size());
+    std::vector<Vec3s> welded;
+    welded.reserve(mesh.points.size());
+    for (size_t i = 0; i < mesh.points.size(); ++i) {
+        const Vec3s& p = mesh.points[i];
+        const auto [it, fresh] = first.try_emplace(Key{p[0], p[1], p[2]}, uint32_t(welded.size()));
+        if (fresh)
+            welded.push_back(p);
+        remap[i] = it->second;
+    }
+    if (welded.size() == mesh.points.size())
+        return;
+    mesh.points = std::move(welded);
+    for (Vec3I& t : mesh.triangles)
+        t = Vec3I(remap[t[0]], remap[t[1]], remap[t[2]]);
+    for (Vec4I& q : mesh.quads)
+        q = Vec4I(remap[q[0]], remap[q[1]], remap[q[2]], remap[q[3]]);
+}
+
 }  // namespace
 
 Mesh readMesh(const std::string& path) {
@@ -259,6 +381,7 @@ Mesh readMesh(const std::string& path) {
     if (std::filesystem::file_size(path, ec) == 0 || ec)
         fail(path, "the file is empty");
 
+    const uint64_t fileSize = std::filesystem::file_size(path, ec);
     {
         std::ifstream in(path, std::ios::binary);
         std::string head(16, '\0');
@@ -266,10 +389,10 @@ Mesh readMesh(const std::string& path) {
         head.resize(size_t(in.gcount()));
         in.clear();
         in.seekg(0);
-        if (head.rfind("ply", 0) == 0 && head.find("ascii") != std::string::npos) {
-            checkAsciiPly(path, in);
+        if (head.rfind("ply", 0) == 0) {
+            checkPly(path, in, fileSize);
         } else if (head.find("OFF") != std::string::npos && head.find("OFF") < 4) {
-            checkOff(path, in);
+            checkOff(path, in, fileSize);
         } else {
             std::string ext = std::filesystem::path(path).extension().string();
             std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -288,9 +411,20 @@ Mesh readMesh(const std::string& path) {
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
                                 aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
                                     aiComponent_COLORS | aiComponent_TEXCOORDS);
-    const aiScene* scene =
-        importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
-                                    aiProcess_ValidateDataStructure | aiProcess_SortByPType);
+    // The vertices are checked as the file gives them, then merged.
+    const aiScene* scene = nullptr;
+    try {
+        scene = importer.ReadFile(path, 0);
+        if (scene)
+            checkFinite(path, *scene);
+        if (scene) {
+            scene = importer.ApplyPostProcessing(
+                aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices |
+                aiProcess_ValidateDataStructure | aiProcess_SortByPType);
+        }
+    } catch (const std::bad_alloc&) {
+        fail(path, "out of memory while reading it");
+    }
     if (!scene) {
         const std::string why = importer.GetErrorString();
         fail(path, why.empty() ? "not a mesh file assimp can read" : why);
@@ -303,6 +437,7 @@ Mesh readMesh(const std::string& path) {
         appendNode(path, *scene, *scene->mRootNode, aiMatrix4x4(), out, 0);
     if (out.triangles.empty() && out.quads.empty())
         fail(path, "the file holds no faces");
+    weldPoints(out);
     return out;
 }
 

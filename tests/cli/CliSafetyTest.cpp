@@ -9,8 +9,7 @@
 #include <vdb/io/File.h>
 #include <vdb/tools/LevelSetSphere.h>
 
-#include "GridContents.h"
-#include "ToolRunner.h"
+#include "CliFixture.h"
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -37,33 +36,22 @@ namespace {
 namespace fs = std::filesystem;
 using test::Result;
 
-class CliSafety : public ::testing::Test {
+class CliSafety : public test::ToolTest {
 protected:
     void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        mDir = fs::path(test::tempPath("vdb-safety-", info->name()));
-        fs::create_directories(mDir);
+        ToolTest::SetUp();
         // Output files and folders get their permissions from the tool, not from this umask.
         ::umask(022);
     }
     void TearDown() override {
-        std::error_code ec;
+        std::error_code ec;  // a test may have made the folder read-only
         fs::permissions(mDir, fs::perms::owner_all, fs::perm_options::add, ec);
-        fs::remove_all(mDir, ec);
+        ToolTest::TearDown();
     }
 
-    std::string path(const std::string& name) const { return (mDir / name).string(); }
-    Result run(const std::vector<std::string>& args) {
-        return test::runTool(VDB_TOOL_PATH, args, mDir.string());
-    }
-    Result ok(const std::vector<std::string>& args) {
-        Result r = run(args);
-        EXPECT_EQ(r.status, 0) << "stderr: " << r.err;
-        return r;
-    }
     /// A failed run: `status`, one error line containing every needle.
-    Result fails(const std::vector<std::string>& args, int status,
-                 const std::vector<std::string>& needles) {
+    Result failsWith(const std::vector<std::string>& args, int status,
+                     const std::vector<std::string>& needles) {
         Result r = run(args);
         EXPECT_EQ(r.status, status) << "stderr: " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -93,8 +81,6 @@ protected:
         return gridPtrCast<FloatGrid>(in.getGrids()->front());
     }
     static bool isRoot() { return ::geteuid() == 0; }
-
-    fs::path mDir;
 };
 
 // ---- Outputs on special files ------------------------------------------------------------------
@@ -161,7 +147,7 @@ TEST_F(CliSafety, SocketIsRefused) {
     }
     std::strcpy(addr.sun_path, name.c_str());
     ASSERT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
-    fails({"convert", path("s.vdb"), "-o", name}, 2, {"sock", "socket"});
+    failsWith({"convert", path("s.vdb"), "-o", name}, 2, {"sock", "socket"});
     ::close(fd);
     struct stat st {};
     ASSERT_EQ(::lstat(name.c_str(), &st), 0);
@@ -188,7 +174,7 @@ TEST_F(CliSafety, SymbolicLinksAreWrittenThrough) {
     // A loop of links is an error, not a hang.
     fs::create_symlink("loop2.vdb", path("loop1.vdb"));
     fs::create_symlink("loop1.vdb", path("loop2.vdb"));
-    fails({"convert", path("s.vdb"), "-o", path("loop1.vdb")}, 2, {"loop1.vdb", "links"});
+    failsWith({"convert", path("s.vdb"), "-o", path("loop1.vdb")}, 2, {"loop1.vdb", "links"});
 }
 
 TEST_F(CliSafety, ReplacedFileKeepsItsModeAndANewFileGetsTheUmask) {
@@ -222,21 +208,21 @@ TEST_F(CliSafety, ReadOnlyFilesAndFoldersAreLeftAlone) {
     writeSphere("ro.vdb", 0.5f);
     fs::permissions(path("ro.vdb"), fs::perms(0444));
     const auto before = test::fileBytes(path("ro.vdb"));
-    fails({"convert", path("s.vdb"), "-o", path("ro.vdb")}, 2, {"ro.vdb", "read-only"});
+    failsWith({"convert", path("s.vdb"), "-o", path("ro.vdb")}, 2, {"ro.vdb", "read-only"});
     EXPECT_EQ(test::fileBytes(path("ro.vdb")), before);
     fs::create_directories(path("locked"));
     fs::permissions(path("locked"), fs::perms(0555));
-    fails({"convert", path("s.vdb"), "-o", path("locked/out.vdb")}, 2, {"not writable"});
+    failsWith({"convert", path("s.vdb"), "-o", path("locked/out.vdb")}, 2, {"not writable"});
     EXPECT_TRUE(fs::is_empty(path("locked")));
 }
 
 TEST_F(CliSafety, AFileWhereAFolderShouldBeIsNamedAsSuch) {
     writeSphere("s.vdb");
-    fails({"convert", path("s.vdb"), "-o", path("s.vdb/out.vdb")}, 2,
-          {"s.vdb is a file, not a folder"});
-    fails({"convert", path("s.vdb"), "-o", path("missing/out.vdb")}, 2,
-          {"folder", "missing", "does not exist"});
-    fails({"convert", path("s.vdb"), "-o", mDir.string()}, 2, {"is a folder"});
+    failsWith({"convert", path("s.vdb"), "-o", path("s.vdb/out.vdb")}, 2,
+              {"s.vdb is a file, not a folder"});
+    failsWith({"convert", path("s.vdb"), "-o", path("missing/out.vdb")}, 2,
+              {"folder", "missing", "does not exist"});
+    failsWith({"convert", path("s.vdb"), "-o", mDir.string()}, 2, {"is a folder"});
 }
 
 // ---- Temporary files ----------------------------------------------------------------------------
@@ -297,10 +283,10 @@ TEST_F(CliSafety, FailedCommandsLeaveTheExistingOutputUntouched) {
     writeSphere("keep.vdb", 0.5f);
     const auto keep = test::fileBytes(path("keep.vdb"));
     const std::string out = path("keep.vdb");
-    fails({"floodfill", path("fog.vdb"), "-o", out}, 2, {"no level set"});
-    fails({"csg", "union", path("s.vdb"), path("fine.vdb"), "-o", out}, 2, {"transform"});
-    fails({"advect", path("fog.vdb"), "-o", out}, 2, {"level set"});
-    fails({"render", path("fog.vdb"), "-o", path("keep.vdb"), "--grid", "nope"}, 2, {"nope"});
+    failsWith({"floodfill", path("fog.vdb"), "-o", out}, 2, {"no level set"});
+    failsWith({"csg", "union", path("s.vdb"), path("fine.vdb"), "-o", out}, 2, {"transform"});
+    failsWith({"advect", path("fog.vdb"), "-o", out}, 2, {"level set"});
+    failsWith({"render", path("fog.vdb"), "-o", path("keep.vdb"), "--grid", "nope"}, 2, {"nope"});
     EXPECT_EQ(test::fileBytes(path("keep.vdb")), keep);
 }
 
@@ -310,16 +296,17 @@ TEST_F(CliSafety, FailedCommandsLeaveTheExistingOutputUntouched) {
 TEST_F(CliSafety, UnboundedWorkIsRefusedWithTheEstimateAndTheLimit) {
     writeSphere("s.vdb");
     const auto start = std::chrono::steady_clock::now();
-    fails({"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--time", "1e6"}, 2,
-          {"steps", "over the limit of 100,000", "--max-steps"});
-    fails({"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--velocity",
-           "1e30,0,0"},
-          2, {"steps"});
-    fails({"morph", "dilate", "1000", path("s.vdb"), "-o", path("m.vdb")}, 2,
-          {"dilating", "GB", "memory", "over the limit of 2.00 GB", "--max-memory"});
-    fails({"sphere", "-o", path("e.vdb"), "--enright", "16384"}, 2, {"memory", "GB"});
-    fails({"spheres", "-o", path("h.vdb"), "--count", "100000000"}, 2, {"memory"});
-    fails({"enright", "--resolution", "4096", "--time", "300"}, 2, {"steps"});
+    failsWith(
+        {"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--time", "1e6"}, 2,
+        {"steps", "over the limit of 100,000", "--max-steps"});
+    failsWith({"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--velocity",
+               "1e30,0,0"},
+              2, {"steps"});
+    failsWith({"morph", "dilate", "1000", path("s.vdb"), "-o", path("m.vdb")}, 2,
+              {"dilating", "GB", "memory", "over the limit of 2.00 GB", "--max-memory"});
+    failsWith({"sphere", "-o", path("e.vdb"), "--enright", "16384"}, 2, {"memory", "GB"});
+    failsWith({"spheres", "-o", path("h.vdb"), "--count", "100000000"}, 2, {"memory"});
+    failsWith({"enright", "--resolution", "4096", "--time", "300"}, 2, {"steps"});
     // Every refusal came before any real work.
     EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));
     EXPECT_EQ(listing(), (std::vector<std::string>{"s.vdb"}));
@@ -327,16 +314,16 @@ TEST_F(CliSafety, UnboundedWorkIsRefusedWithTheEstimateAndTheLimit) {
 
 TEST_F(CliSafety, LimitsCanBeLoweredAndRaised) {
     writeSphere("s.vdb");
-    fails({"sphere", "-o", path("t.vdb"), "--radius", "1", "--voxel-size", "0.01", "--max-memory",
-           "100k"},
-          2, {"over the limit of 100.0 kB"});
+    failsWith({"sphere", "-o", path("t.vdb"), "--radius", "1", "--voxel-size", "0.01",
+               "--max-memory", "100k"},
+              2, {"over the limit of 100.0 kB"});
     ok({"sphere", "-o", path("t.vdb"), "--radius", "1", "--voxel-size", "0.01", "--max-memory",
         "1G", "-q"});
-    fails({"sphere", "-o", path("t.vdb"), "--max-memory", "lots"}, 2, {"--max-memory", "lots"});
+    failsWith({"sphere", "-o", path("t.vdb"), "--max-memory", "lots"}, 2, {"--max-memory", "lots"});
     // Twenty steps of one voxel each at CFL 0.5 need about forty steps.
-    fails({"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--time", "2",
-           "--max-steps", "5"},
-          2, {"over the limit of 5"});
+    failsWith({"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--time", "2",
+               "--max-steps", "5"},
+              2, {"over the limit of 5"});
     ok({"advect", path("s.vdb"), "-o", path("a.vdb"), "--field", "constant", "--time", "0.2",
         "--max-steps", "50", "-q"});
     // The environment sets the default for every command.
@@ -352,21 +339,21 @@ TEST_F(CliSafety, LimitsCanBeLoweredAndRaised) {
 TEST_F(CliSafety, NonFiniteAndOutOfRangeNumbersAreRefused) {
     writeSphere("s.vdb");
     const std::string out = path("out.vdb");
-    fails({"sphere", "-o", out, "--center", "nan,0,0"}, 2, {"finite", "nan"});
-    fails({"sphere", "-o", out, "--center", "inf,0,0"}, 2, {"finite"});
-    fails({"sphere", "-o", out, "--radius", "nan"}, 2, {"nan"});
-    fails({"sphere", "-o", out, "--center", "3e7,0,0"}, 2, {"index space", "2^31"});
-    fails({"sphere", "-o", out, "--radius", "1e30"}, 2, {"index space"});
-    fails({"sphere", "-o", out, "--voxel-size", "1e-300"}, 2, {"index space"});
-    fails({"sphere", "-o", out, "--half-width", "nan"}, 2, {"nan"});
-    fails({"advect", path("s.vdb"), "-o", out, "--time", "nan"}, 2, {"nan"});
-    fails({"advect", path("s.vdb"), "-o", out, "--field", "constant", "--velocity", "nan,0,0"}, 2,
-          {"nan"});
-    fails({"advect", path("s.vdb"), "-o", out, "--cfl", "nan"}, 2, {"nan"});
-    fails({"prune", path("s.vdb"), "-o", out, "--tolerance", "nan"}, 2, {"nan"});
-    fails({"prune", path("s.vdb"), "-o", out, "--tolerance", "-1"}, 2, {"-1"});
-    fails({"spheres", "-o", out, "--voxel-size", "inf"}, 2, {"inf"});
-    fails({"enright", "--time", "inf"}, 2, {"inf"});
+    failsWith({"sphere", "-o", out, "--center", "nan,0,0"}, 2, {"finite", "nan"});
+    failsWith({"sphere", "-o", out, "--center", "inf,0,0"}, 2, {"finite"});
+    failsWith({"sphere", "-o", out, "--radius", "nan"}, 2, {"nan"});
+    failsWith({"sphere", "-o", out, "--center", "3e7,0,0"}, 2, {"index space", "2^31"});
+    failsWith({"sphere", "-o", out, "--radius", "1e30"}, 2, {"index space"});
+    failsWith({"sphere", "-o", out, "--voxel-size", "1e-300"}, 2, {"index space"});
+    failsWith({"sphere", "-o", out, "--half-width", "nan"}, 2, {"nan"});
+    failsWith({"advect", path("s.vdb"), "-o", out, "--time", "nan"}, 2, {"nan"});
+    failsWith({"advect", path("s.vdb"), "-o", out, "--field", "constant", "--velocity", "nan,0,0"},
+              2, {"nan"});
+    failsWith({"advect", path("s.vdb"), "-o", out, "--cfl", "nan"}, 2, {"nan"});
+    failsWith({"prune", path("s.vdb"), "-o", out, "--tolerance", "nan"}, 2, {"nan"});
+    failsWith({"prune", path("s.vdb"), "-o", out, "--tolerance", "-1"}, 2, {"-1"});
+    failsWith({"spheres", "-o", out, "--voxel-size", "inf"}, 2, {"inf"});
+    failsWith({"enright", "--time", "inf"}, 2, {"inf"});
     EXPECT_EQ(listing(), (std::vector<std::string>{"s.vdb"}));
 }
 
@@ -407,8 +394,8 @@ TEST_F(CliSafety, GridsAtTheSameVoxelSizeCombineWhateverTheirRounding) {
     auto c =
         tools::createLevelSetSphere<FloatGrid>(0.3, Vec3d(0.1, 0, 0), 0.0125 * (1 + 1e-5), 3.0);
     io::File(path("c.vdb")).write(GridPtrVec{c});
-    fails({"csg", "union", path("a.vdb"), path("c.vdb"), "-o", path("v.vdb")}, 2,
-          {"one index space", "0.0125"});
+    failsWith({"csg", "union", path("a.vdb"), path("c.vdb"), "-o", path("v.vdb")}, 2,
+              {"one index space", "0.0125"});
 }
 
 // ---- Files the tool reads
@@ -457,8 +444,8 @@ TEST_F(CliSafety, ConvertNamesTheCodecOfEachGridAndNeverDropsGridsSilently) {
     std::copy(to.begin(), to.end(), at);
     std::ofstream(path("points.vdb"), std::ios::binary)
         .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    fails({"convert", path("points.vdb"), "-o", path("out.vdb")}, 2,
-          {"labels", "Tree_ptdata_5_43", "--drop-unsupported"});
+    failsWith({"convert", path("points.vdb"), "-o", path("out.vdb")}, 2,
+              {"labels", "Tree_ptdata_5_43", "--drop-unsupported"});
     EXPECT_FALSE(fs::exists(path("out.vdb")));
     const Result d =
         ok({"convert", path("points.vdb"), "-o", path("out.vdb"), "--drop-unsupported"});

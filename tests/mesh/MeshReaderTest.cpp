@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // Mesh import (vdb::meshio): tiny files of every format written at test time, read back and
-// compared with the mesh they were written from; malformed files each give an IoError; a cube
-// read from OBJ converts to the same level set as the cube in memory; the real meshes of the
-// Debian package assimp-testmodels (skipped when it is not installed) read alike in every format.
+// compared with the mesh they were written from; malformed files each give an IoError (counts
+// the file cannot hold before anything is allocated for them, coordinates that are not finite
+// in every format); a cube read from OBJ converts to the same level set as the cube in memory;
+// the real meshes of the Debian package assimp-testmodels (skipped when it is not installed)
+// read alike in every format, and their level sets, with the default signs, agree with the
+// brute-force generalized winding number (tests/mesh/TestMeshes.h) away from their open edges.
 
 #include <vdb/meshio/MeshReader.h>
 #include <vdb/tools/MeshToVolume.h>
@@ -264,6 +267,52 @@ TEST(MeshReader, OutOfRangeIndicesThrow) {
     EXPECT_TRUE(rejects("index.off", off));
 }
 
+/// True when reading `bytes` as `name` throws an IoError whose message names the file and
+/// holds every one of `words`.
+::testing::AssertionResult rejectsWith(const std::string& name, const std::string& bytes,
+                                       const std::vector<std::string>& words) {
+    const std::string path = writeFile(name, bytes);
+    try {
+        readMesh(path);
+        return ::testing::AssertionFailure() << name << " was accepted";
+    } catch (const IoError& e) {
+        const std::string what = e.what();
+        std::vector<std::string> needles = words;
+        needles.push_back(path);
+        for (const std::string& w : needles) {
+            if (what.find(w) == std::string::npos)
+                return ::testing::AssertionFailure() << "no '" << w << "' in: " << what;
+        }
+        return ::testing::AssertionSuccess() << what;
+    }
+}
+
+TEST(MeshReader, CountsBeyondWhatTheFileHoldsThrowBeforeAllocating) {
+    // Binary PLY: 10^8 vertices of 12 bytes, 10^8 faces of at least 1 byte, 4e9 vertices.
+    const std::string header = "ply\nformat binary_little_endian 1.0\n";
+    const std::string vertexProps = "property float x\nproperty float y\nproperty float z\n";
+    const std::string faceProps = "property list uchar int vertex_indices\n";
+    std::string ply = header + "element vertex 100000000\n" + vertexProps + "element face 1\n" +
+                      faceProps + "end_header\n";
+    ply.resize(180, '\0');
+    EXPECT_TRUE(rejectsWith("many-vertices.ply", ply, {"100000000 vertex", "12 bytes"}));
+    std::string faces = header + "element vertex 3\n" + vertexProps + "element face 100000000\n" +
+                        faceProps + "end_header\n";
+    faces.resize(faces.size() + 36 + 20, '\0');
+    EXPECT_TRUE(rejectsWith("many-faces.ply", faces, {"100000000 face", "1 byte", "20 bytes"}));
+    std::string huge = header + "element vertex 4000000000\n" + vertexProps + "element face 1\n" +
+                       faceProps + "end_header\n";
+    huge.resize(huge.size() + 40, '\0');
+    EXPECT_TRUE(rejectsWith("huge.ply", huge, {"4000000000 vertex", "40 bytes"}));
+    // ASCII PLY and OFF: at least two characters per value.
+    std::string ascii = tetPlyAscii();
+    ascii.replace(ascii.find("element vertex 4"), 16, "element vertex 1000000000");
+    EXPECT_TRUE(rejectsWith("many-vertices-ascii.ply", ascii, {"1000000000 vertex"}));
+    EXPECT_TRUE(rejectsWith("many.off", "OFF\n2000000000 1 0\n0 0 0\n", {"2000000000 vertices"}));
+    EXPECT_TRUE(rejectsWith("many-faces.off", "OFF\n3 900000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                            {"900000000 faces"}));
+}
+
 TEST(MeshReader, NonFiniteCoordinatesThrow) {
     EXPECT_TRUE(rejects("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"));
     EXPECT_TRUE(rejects("nan-z.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n"));
@@ -275,6 +324,20 @@ TEST(MeshReader, NonFiniteCoordinatesThrow) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     std::memcpy(stl.data() + 84 + 12 + 4, &nan, 4);  // first triangle, first vertex, y
     EXPECT_TRUE(rejects("nan.stl", stl));
+    // A triangle whose corners are all NaN (which merging identical vertices would hide).
+    std::string allNan = tetStlBinary();
+    for (int k = 0; k < 9; ++k)
+        std::memcpy(allNan.data() + 84 + 3 * 50 + 12 + 4 * k, &nan, 4);
+    EXPECT_TRUE(rejectsWith("all-nan.stl", allNan, {"not finite", "nan"}));
+    std::string asciiStl = tetStlAscii();
+    asciiStl.replace(asciiStl.find("vertex 1 0 0"), 12, "vertex 1 0 1e999");
+    EXPECT_TRUE(rejectsWith("inf-ascii.stl", asciiStl, {"not finite", "inf"}));
+    std::string off = tetOff();
+    off.replace(off.find("\n1 0 0\n"), 7, "\n1 nan 0\n");
+    EXPECT_TRUE(rejects("nan.off", off));
+    std::string binaryPly = tetPlyBinary();
+    std::memcpy(binaryPly.data() + binaryPly.find("end_header\n") + 11 + 4, &nan, 4);
+    EXPECT_TRUE(rejectsWith("nan-binary.ply", binaryPly, {"not finite"}));
 }
 
 // ---- Real meshes of the Debian package assimp-testmodels ----
@@ -327,6 +390,83 @@ TEST(MeshReaderModels, WusonReadsAlikeFromPlyOffAndStl) {
     }
 }
 
+TEST(MeshReaderModels, StlPlyAndOffOfWusonHaveTheSameEdges) {
+    // STL stores every triangle's corners apart: after welding, its edges are those of the
+    // indexed formats.
+    std::vector<tools::MeshToVolumeReport> reports;
+    for (const char* name : {"PLY/Wuson.ply", "OFF/Wuson.off", "STL/Wuson.stl"}) {
+        VDB_MODEL_OR_SKIP(path, name);
+        const Mesh mesh = readMesh(path);
+        const auto xform = math::Transform::createLinearTransform(0.05);
+        tools::MeshToVolumeReport report;
+        tools::meshToVolume<FloatGrid>(*xform, mesh.points, mesh.triangles, mesh.quads, {},
+                                       &report);
+        EXPECT_EQ(report.sign, tools::MeshSign::WindingNumber) << name;
+        EXPECT_EQ(report.boundaryEdges, 412u) << name;
+        EXPECT_EQ(report.nonManifoldEdges + report.misorientedEdges, 0u) << name;
+        reports.push_back(report);
+    }
+    EXPECT_EQ(reports[0].holes, reports[2].holes);
+}
+
+/// The level set of a model of assimp-testmodels at a bounding resolution of 64 voxels, with
+/// the default signs, against the brute-force generalized winding number at about 1,200 points
+/// (band and box) more than half a voxel from the surface and three voxels from an open edge.
+::testing::AssertionResult modelMatchesTheWindingNumber(const std::string& path,
+                                                        tools::MeshSign expected) {
+    const Mesh mesh = readMesh(path);
+    const auto [lo, hi] = bounds(mesh);
+    const Vec3d extent = hi - lo;
+    const double dx = std::max({extent[0], extent[1], extent[2]}) / 64;
+    const auto xform = math::Transform::createLinearTransform(dx);
+    tools::MeshToVolumeReport report;
+    const auto grid = tools::meshToVolume<FloatGrid>(*xform, mesh.points, mesh.triangles,
+                                                     mesh.quads, {}, &report);
+    if (report.sign != expected)
+        return ::testing::AssertionFailure() << path << ": another sign mode was chosen";
+    const test::OracleMesh oracle =
+        test::toIndexSpace(test::TestMesh{mesh.points, mesh.triangles, mesh.quads}, dx);
+    const auto acc = grid->getConstAccessor();
+    const test::SignTally tally = test::compareSigns(
+        oracle, test::signSamples(*grid, oracle, 31, 5), 0.5, 3.0,
+        [&](const Vec3d& p) { return acc.getValue(math::floorToCoord(p + 0.5)) < 0.0f; },
+        [&](const Vec3d& p) { return oracle.insideByWinding(p); });
+    if (tally.checked < 600 || tally.wrong > 0) {
+        return ::testing::AssertionFailure()
+               << path << ": " << tally.wrong << " of " << tally.checked << " signs differ";
+    }
+    return ::testing::AssertionSuccess();
+}
+
+// Holes (Wuson: 412 boundary edges), faces turned the wrong way and non-manifold edges
+// (spider, from OBJ and binary STL), holes and non-manifold edges in several objects with
+// points shared between them (regr01), an STL of a sphere with a hole, an STL with
+// non-manifold edges.
+class MeshReaderDefectiveModels : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MeshReaderDefectiveModels, MatchTheWindingNumberAwayFromTheirOpenEdges) {
+    VDB_MODEL_OR_SKIP(path, GetParam());
+    EXPECT_TRUE(modelMatchesTheWindingNumber(path, tools::MeshSign::WindingNumber));
+}
+
+INSTANTIATE_TEST_SUITE_P(AssimpTestModels, MeshReaderDefectiveModels,
+                         ::testing::Values("PLY/Wuson.ply", "OBJ/spider.obj", "OBJ/regr01.obj",
+                                           "STL/Spider_binary.stl", "STL/sphereWithHole.stl",
+                                           "STL/3DSMaxExport.STL"),
+                         [](const auto& info) {
+                             std::string n = info.param;
+                             std::replace_if(
+                                 n.begin(), n.end(), [](char c) { return !std::isalnum(c); }, '_');
+                             return n;
+                         });
+
+TEST(MeshReaderModels, ClosedModelsAreSignedByFloodFill) {
+    for (const char* name : {"OFF/Cube.off", "PLY/cube_binary.ply", "OBJ/box.obj"}) {
+        VDB_MODEL_OR_SKIP(path, name);
+        EXPECT_TRUE(modelMatchesTheWindingNumber(path, tools::MeshSign::FloodFill));
+    }
+}
+
 TEST(MeshReaderModels, InvalidOffThrows) {
     VDB_MODEL_OR_SKIP(path, "OFF/invalid.off");
     EXPECT_TRUE(rejectsFile(path));
@@ -343,6 +483,10 @@ TEST(MeshReaderModels, SphereWithHoleSignsByWindingNumbers) {
     options.sign = tools::MeshSign::WindingNumber;
     const auto grid =
         tools::meshToVolume<FloatGrid>(*xform, mesh.points, mesh.triangles, mesh.quads, options);
+    // The default picks the same.
+    EXPECT_TRUE(test::sameContents(
+        grid->tree(),
+        tools::meshToVolume<FloatGrid>(*xform, mesh.points, mesh.triangles, mesh.quads)->tree()));
     const auto valueAt = [&](const Vec3d& world) {
         return grid->tree().getValue(xform->worldToIndexCellCentered(world));
     };

@@ -98,21 +98,6 @@ struct BandCheck {
     return ::testing::AssertionSuccess() << checkedActive << " active voxels match";
 }
 
-/// True when both trees hold the same voxels and tiles with bitwise equal values.
-::testing::AssertionResult sameTree(const FloatTree& a, const FloatTree& b) {
-    const auto ca = test::treeContents(a), cb = test::treeContents(b);
-    if (ca.size() != cb.size())
-        return ::testing::AssertionFailure() << ca.size() << " vs " << cb.size() << " items";
-    for (size_t n = 0; n < ca.size(); ++n) {
-        if (!(ca[n].min == cb[n].min) || !(ca[n].max == cb[n].max) ||
-            ca[n].active != cb[n].active || !test::sameBits(ca[n].value, cb[n].value)) {
-            return ::testing::AssertionFailure()
-                   << "item " << n << " at " << ca[n].min << " differs";
-        }
-    }
-    return ::testing::AssertionSuccess();
-}
-
 FloatGrid::Ptr convert(const TestMesh& mesh, double voxelSize, const MeshToVolumeOptions& options,
                        const Vec3d& offset = Vec3d(0.0)) {
     auto xform = math::Transform::createLinearTransform(voxelSize);
@@ -147,7 +132,8 @@ TEST(MeshToVolume, QuadsEqualTheirSplitTriangles) {
     TestMesh tris = quads;
     tris.triangles = quads.allTriangles();
     tris.quads.clear();
-    EXPECT_TRUE(sameTree(convert(quads, 0.2, {})->tree(), convert(tris, 0.2, {})->tree()));
+    EXPECT_TRUE(
+        test::sameContents(convert(quads, 0.2, {})->tree(), convert(tris, 0.2, {})->tree()));
 }
 
 TEST(MeshToVolume, TorusMatchesBruteForceDistancesAndRayCastSigns) {
@@ -297,7 +283,8 @@ TEST(MeshToVolume, WindingNumberMatchesFloodFillOnClosedMeshes) {
     const TestMesh mesh = test::makeTorusMesh(Vec3d(0.1, 0.0, 0.0), 0.9, 0.35, 28, 12);
     MeshToVolumeOptions options;
     options.sign = MeshSign::WindingNumber;
-    EXPECT_TRUE(sameTree(convert(mesh, 0.06, {})->tree(), convert(mesh, 0.06, options)->tree()));
+    EXPECT_TRUE(
+        test::sameContents(convert(mesh, 0.06, {})->tree(), convert(mesh, 0.06, options)->tree()));
 }
 
 TEST(MeshToVolume, ResultDoesNotDependOnTheThreadCount) {
@@ -306,16 +293,16 @@ TEST(MeshToVolume, ResultDoesNotDependOnTheThreadCount) {
     ASSERT_GT(threaded->tree().leafCount(), 1000u);
     MeshToVolumeOptions serial;
     serial.threaded = false;
-    EXPECT_TRUE(sameTree(threaded->tree(), convert(mesh, 0.05, serial)->tree()));
+    EXPECT_TRUE(test::sameContents(threaded->tree(), convert(mesh, 0.05, serial)->tree()));
     {
         tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-        EXPECT_TRUE(sameTree(threaded->tree(), convert(mesh, 0.05, {})->tree()));
+        EXPECT_TRUE(test::sameContents(threaded->tree(), convert(mesh, 0.05, {})->tree()));
     }
     MeshToVolumeOptions winding;
     winding.sign = MeshSign::WindingNumber;
     const auto a = convert(mesh, 0.2, winding);
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-    EXPECT_TRUE(sameTree(a->tree(), convert(mesh, 0.2, winding)->tree()));
+    EXPECT_TRUE(test::sameContents(a->tree(), convert(mesh, 0.2, winding)->tree()));
 }
 
 TEST(MeshToVolume, DegenerateTrianglesChangeNothing) {
@@ -327,7 +314,7 @@ TEST(MeshToVolume, DegenerateTrianglesChangeNothing) {
     mesh.triangles.emplace_back(t0[2], t0[2], t0[2]);
     mesh.points.push_back(Vec3s((Vec3d(mesh.points[t0[0]]) + Vec3d(mesh.points[t0[1]])) * 0.5));
     mesh.triangles.emplace_back(t0[0], Index32(mesh.points.size() - 1), t0[1]);
-    EXPECT_TRUE(sameTree(grid->tree(), convert(mesh, 0.1, {})->tree()));
+    EXPECT_TRUE(test::sameContents(grid->tree(), convert(mesh, 0.1, {})->tree()));
 }
 
 TEST(MeshToVolume, EmptyMeshGivesAnEmptyGrid) {

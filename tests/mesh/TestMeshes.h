@@ -2,8 +2,9 @@
 /// @file
 /// Meshes generated at test time (sphere, cube, torus, with holes, far away) and independent
 /// oracles for them: the exact distance to a triangle mesh by brute force over every triangle
-/// (closest point by Voronoi regions, a different method from the library's), and a
-/// point-in-mesh test by ray casting in three skew directions (Moller-Trumbore). Shared by the
+/// (closest point by Voronoi regions, a different method from the library's), a point-in-mesh
+/// test by ray casting in three skew directions (Moller-Trumbore), and the exact generalized
+/// winding number by brute force over every triangle (L'Huilier's spherical excess). Shared by the
 /// mesh tests, the OpenVDB compatibility test and the mesh benchmark; nothing here uses the
 /// library beyond its vector types.
 
@@ -18,6 +19,7 @@
 #include <map>
 #include <numbers>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace vdb::test {
@@ -144,6 +146,47 @@ inline TestMesh makeTorusMesh(const Vec3d& center, double major, double minor, i
     return mesh;
 }
 
+// ---- Meshes with defects ----
+
+/// The mesh without the triangles (quads split first) whose centroid `drop` accepts; points
+/// are kept, so the holes' rims keep their vertices.
+template <typename PredicateT>
+TestMesh withoutTriangles(const TestMesh& mesh, const PredicateT& drop) {
+    TestMesh out;
+    out.points = mesh.points;
+    for (const Vec3I& t : mesh.allTriangles()) {
+        const Vec3d c =
+            (Vec3d(mesh.points[t[0]]) + Vec3d(mesh.points[t[1]]) + Vec3d(mesh.points[t[2]])) / 3.0;
+        if (!drop(c))
+            out.triangles.push_back(t);
+    }
+    return out;
+}
+
+/// The mesh with every triangle's corners as points of their own (as STL stores them).
+inline TestMesh withDuplicatedPoints(const TestMesh& mesh) {
+    TestMesh out;
+    for (const Vec3I& t : mesh.allTriangles()) {
+        const Index32 base = Index32(out.points.size());
+        for (int k = 0; k < 3; ++k)
+            out.points.push_back(mesh.points[t[k]]);
+        out.triangles.emplace_back(base, base + 1, base + 2);
+    }
+    return out;
+}
+
+/// The union of two meshes as one mesh (their triangles may cross).
+inline TestMesh merged(const TestMesh& a, const TestMesh& b) {
+    TestMesh out;
+    out.points = a.points;
+    out.points.insert(out.points.end(), b.points.begin(), b.points.end());
+    out.triangles = a.allTriangles();
+    const Index32 base = Index32(a.points.size());
+    for (const Vec3I& t : b.allTriangles())
+        out.triangles.emplace_back(t[0] + base, t[1] + base, t[2] + base);
+    return out;
+}
+
 // ---- Oracles ----
 
 /// The closest point of triangle (a, b, c) to p, by the Voronoi region of p (vertex, edge or
@@ -236,6 +279,50 @@ struct OracleMesh {
         return hits;
     }
 
+    /// The generalized winding number at p (Jacobson et al. 2013): the sum over all triangles
+    /// of their signed solid angles seen from p, over 4 pi. Each solid angle is the spherical
+    /// excess of the triangle's projection on the unit sphere around p, by L'Huilier's theorem
+    /// from the three arc lengths (a different formula from the library's), signed by the
+    /// triangle's orientation as seen from p.
+    double windingNumber(const Vec3d& p) const {
+        const auto arc = [](const Vec3d& u, const Vec3d& v) {
+            return std::atan2(u.cross(v).length(), u.dot(v));
+        };
+        double sum = 0.0;
+        for (const Vec3I& t : triangles) {
+            const Vec3d a = points[t[0]] - p, b = points[t[1]] - p, c = points[t[2]] - p;
+            const double det = a.dot(b.cross(c));
+            if (det == 0.0)
+                continue;
+            const double ta = arc(b, c), tb = arc(a, c), tc = arc(a, b);
+            const double s = 0.5 * (ta + tb + tc);
+            const double product = std::tan(0.5 * s) * std::tan(0.5 * (s - ta)) *
+                                   std::tan(0.5 * (s - tb)) * std::tan(0.5 * (s - tc));
+            const double excess = 4.0 * std::atan(std::sqrt(std::max(0.0, product)));
+            sum += det > 0.0 ? excess : -excess;
+        }
+        return sum / (4.0 * std::numbers::pi);
+    }
+
+    /// Inside by the generalized winding number: more than 1/2 in magnitude.
+    bool insideByWinding(const Vec3d& p) const { return std::abs(windingNumber(p)) > 0.5; }
+
+    /// The distance from p to the nearest open edge: one along which fewer faces run one way
+    /// than the other (boundary edges, most non-manifold and misoriented edges), matching
+    /// points by position; infinity for a closed mesh.
+    double distanceToOpenEdges(const Vec3d& p) const {
+        if (!openEdgesFound)
+            findOpenEdges();
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& [a, b] : openEdges) {
+            const Vec3d d = b - a;
+            const double len2 = d.dot(d);
+            const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+            best = std::min(best, (a + d * t - p).length());
+        }
+        return best;
+    }
+
     /// Inside by the majority of three rays in skew directions (each counts hits mod 2).
     bool inside(const Vec3d& p) const {
         static const Vec3d dirs[3] = {Vec3d(0.5773, 0.6143, 0.5381), Vec3d(-0.7071, 0.3123, 0.6345),
@@ -245,7 +332,108 @@ struct OracleMesh {
             votes += rayHits(p, d) % 2;
         return votes >= 2;
     }
+
+private:
+    using Key = std::tuple<double, double, double>;
+    mutable std::vector<std::pair<Vec3d, Vec3d>> openEdges;
+    mutable bool openEdgesFound = false;
+
+    /// Counts, per edge between two positions, the faces running each way along it.
+    void findOpenEdges() const {
+        openEdgesFound = true;
+        const auto key = [](const Vec3d& v) { return Key(v[0], v[1], v[2]); };
+        std::map<std::pair<Key, Key>, std::pair<int, int>> uses;  // (lo -> hi, hi -> lo)
+        for (const Vec3I& t : triangles) {
+            for (int k = 0; k < 3; ++k) {
+                const Key a = key(points[t[k]]), b = key(points[t[(k + 1) % 3]]);
+                if (a == b)
+                    continue;
+                auto& u = uses[std::minmax(a, b)];
+                (a < b ? u.first : u.second) += 1;
+            }
+        }
+        for (const auto& [edge, u] : uses) {
+            if (u.first != u.second) {
+                const auto& [a, b] = edge;
+                openEdges.emplace_back(Vec3d(std::get<0>(a), std::get<1>(a), std::get<2>(a)),
+                                       Vec3d(std::get<0>(b), std::get<1>(b), std::get<2>(b)));
+            }
+        }
+    }
 };
+
+/// Sign agreement of a level set with an oracle at sampled points.
+struct SignTally {
+    int checked = 0;  ///< points compared
+    int wrong = 0;    ///< of which the two disagree
+};
+
+/// The points of `points` (index space) more than `nearSurface` voxels from the mesh (where a
+/// sign is a matter of rounding) and `nearOpenEdges` voxels from its open edges (where the
+/// winding number changes smoothly between inside and outside), each with `oracleInside(p)`.
+template <typename OracleT>
+std::vector<std::pair<Vec3d, bool>> oracleSigns(const OracleMesh& mesh,
+                                                const std::vector<Vec3d>& points,
+                                                double nearSurface, double nearOpenEdges,
+                                                const OracleT& oracleInside) {
+    std::vector<std::pair<Vec3d, bool>> out;
+    for (const Vec3d& p : points) {
+        if (mesh.distance(p) >= nearSurface && mesh.distanceToOpenEdges(p) >= nearOpenEdges)
+            out.emplace_back(p, oracleInside(p));
+    }
+    return out;
+}
+
+/// Compares `insideOf(p)` (a level set) with the oracle's signs.
+template <typename InsideT>
+SignTally compareSigns(const std::vector<std::pair<Vec3d, bool>>& oracle, const InsideT& insideOf) {
+    SignTally tally;
+    for (const auto& [p, inside] : oracle) {
+        ++tally.checked;
+        tally.wrong += insideOf(p) != inside;
+    }
+    return tally;
+}
+
+/// Both steps at once.
+template <typename InsideT, typename OracleT>
+SignTally compareSigns(const OracleMesh& mesh, const std::vector<Vec3d>& points, double nearSurface,
+                       double nearOpenEdges, const InsideT& insideOf, const OracleT& oracleInside) {
+    return compareSigns(oracleSigns(mesh, points, nearSurface, nearOpenEdges, oracleInside),
+                        insideOf);
+}
+
+/// Every `stride`-th voxel centre, in each axis, of the box around the mesh grown by `margin`
+/// voxels (index space).
+inline std::vector<Vec3d> boxSamples(const OracleMesh& mesh, double margin, int stride) {
+    Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const Vec3d& p : mesh.points) {
+        lo = Vec3d::minComponent(lo, p);
+        hi = Vec3d::maxComponent(hi, p);
+    }
+    std::vector<Vec3d> out;
+    for (double x = std::floor(lo[0] - margin); x <= hi[0] + margin; x += stride) {
+        for (double y = std::floor(lo[1] - margin); y <= hi[1] + margin; y += stride) {
+            for (double z = std::floor(lo[2] - margin); z <= hi[2] + margin; z += stride)
+                out.emplace_back(x, y, z);
+        }
+    }
+    return out;
+}
+
+/// Points for sign checks (index space): every `stride`-th active voxel of `grid` (of this
+/// library or of OpenVDB) and every `boxStride`-th voxel of the box around the mesh grown by 4.
+template <typename GridT>
+std::vector<Vec3d> signSamples(const GridT& grid, const OracleMesh& mesh, int stride,
+                               int boxStride) {
+    std::vector<Vec3d> out = boxSamples(mesh, 4.0, boxStride);
+    int n = 0;
+    for (auto it = grid.tree().cbeginValueOn(); it; ++it) {
+        if (n++ % stride == 0)
+            out.emplace_back(it.getCoord()[0], it.getCoord()[1], it.getCoord()[2]);
+    }
+    return out;
+}
 
 /// The mesh in the index space of a transform given as world = index * voxelSize + offset.
 inline OracleMesh toIndexSpace(const TestMesh& mesh, double voxelSize,

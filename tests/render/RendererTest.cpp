@@ -201,6 +201,10 @@ TEST(Image, ConvertsToEightBitSrgb) {
     EXPECT_EQ(bytes[5], 10);   // 0.0031308 * 12.92 * 255 = 10.3
     EXPECT_EQ(bytes[6], 0);
     EXPECT_EQ(image.toRgba8(false)[4], 128);
+    // Transparent pixels carry no colour.
+    image(0, 0) = Rgba{1.0f, 1.0f, 1.0f, 0.001f};
+    EXPECT_EQ(image.toRgba8()[0], 0);
+    EXPECT_EQ(image.toRgba8()[3], 0);
 }
 
 }  // namespace

@@ -2,14 +2,16 @@
 /// @file
 /// Test support for file tests: a grid filled with a random mix of active and inactive voxels
 /// and tiles at every level; a flat listing of a tree's contents (every voxel and tile with
-/// its box, state and value) that two trees, or a tree and an OpenVDB tree, can be compared by;
-/// and temporary files.
+/// its box, state and value) that two trees, or a tree and an OpenVDB tree, can be compared by,
+/// and such a comparison of two trees; and temporary files.
 
 #pragma once
 
 #include <vdb/Grid.h>
 #include <vdb/math/Half.h>
 
+#include "Oracles.h"
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -63,6 +65,23 @@ auto treeContents(const TreeT& tree) {
         return std::tie(a.min, a.level) < std::tie(b.min, b.level);
     });
     return items;
+}
+
+/// Success when both trees hold the same voxels and tiles, in the same states, with bitwise
+/// equal values; else a failure naming the first item that differs.
+template <typename TreeT>
+::testing::AssertionResult sameContents(const TreeT& a, const TreeT& b) {
+    const auto ca = treeContents(a), cb = treeContents(b);
+    if (ca.size() != cb.size())
+        return ::testing::AssertionFailure() << ca.size() << " vs " << cb.size() << " items";
+    for (size_t n = 0; n < ca.size(); ++n) {
+        if (!(ca[n].min == cb[n].min) || !(ca[n].max == cb[n].max) ||
+            ca[n].active != cb[n].active || !sameBits(ca[n].value, cb[n].value)) {
+            return ::testing::AssertionFailure()
+                   << "item " << n << " at " << ca[n].min << " differs";
+        }
+    }
+    return ::testing::AssertionSuccess();
 }
 
 /// A random value of T drawn from `rng`.

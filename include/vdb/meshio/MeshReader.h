@@ -36,8 +36,9 @@ struct Mesh {
 
 /// Reads the mesh in the file at `path`; the format is recognised by the file's contents and
 /// extension (.obj, .ply, .stl, .off). Every mesh of the file goes into one Mesh, placed by the
-/// transforms of the file's scene graph. Vertices at the same position with the same
-/// attributes are merged (STL stores each triangle's corners separately). Faces of more than
+/// transforms of the file's scene graph. Vertices at the same position are merged (STL stores
+/// each triangle's corners separately; assimp splits files into several meshes that each hold
+/// their copy of a shared vertex). Faces of more than
 /// four vertices are split into a fan of triangles; points and lines are ignored.
 /// @throw IoError when the file cannot be read, is empty or malformed (truncated, counts that
 ///        do not match the data, indices out of range), holds no face, or has a coordinate

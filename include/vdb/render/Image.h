@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
-/// Image: a buffer of RGBA pixels in linear floating point, as the renderers return it, with a
-/// conversion to 8-bit sRGB for files.
+/// Image: a buffer of RGBA pixels in linear floating point, as the renderers return it (colours
+/// not premultiplied by alpha), with a conversion to 8-bit sRGB for files.
 ///
 /// @code
 /// vdb::render::Image image(640, 480);
@@ -50,6 +50,7 @@ public:
 
     /// Returns the pixels as 8-bit RGBA, row-major from the top: colours clamped to [0, 1] and
     /// encoded with the sRGB transfer curve when `srgb`, else scaled linearly; alpha linear.
+    /// A pixel whose alpha rounds to 0 is written (0, 0, 0, 0): it has no colour to show.
     std::vector<uint8_t> toRgba8(bool srgb = true) const {
         std::vector<uint8_t> out(mPixels.size() * 4);
         auto encode = [srgb](float c) {
@@ -60,10 +61,13 @@ public:
         };
         for (size_t i = 0; i < mPixels.size(); ++i) {
             const Rgba& p = mPixels[i];
+            const uint8_t alpha = uint8_t(std::lround(std::clamp(double(p.a), 0.0, 1.0) * 255.0));
+            if (alpha == 0)
+                continue;  // left (0, 0, 0, 0)
             out[4 * i + 0] = encode(p.r);
             out[4 * i + 1] = encode(p.g);
             out[4 * i + 2] = encode(p.b);
-            out[4 * i + 3] = uint8_t(std::lround(std::clamp(double(p.a), 0.0, 1.0) * 255.0));
+            out[4 * i + 3] = alpha;
         }
         return out;
     }

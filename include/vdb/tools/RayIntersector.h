@@ -18,6 +18,12 @@
 /// common boundary. The normal is the normalized gradient of the trilinear interpolant.
 /// Crossings that enter and leave one trilinear cell (grazing rays) are not reported.
 ///
+/// Voxels need not be cubes: any linear transform (scale, scale and translation, affine) is
+/// accepted, since the walk happens in index space. With voxels of unequal sides, "a voxel
+/// size" above is the longest distance one index unit can span in the world (the largest
+/// singular value of the transform's linear part), and world normals are index gradients
+/// mapped by the inverse transpose of that linear part. Frustum transforms are refused.
+///
 /// @code
 /// vdb::tools::LevelSetRayIntersector<vdb::FloatGrid> intersector(*sphere);
 /// vdb::math::Ray<double> ray(vdb::Vec3d(0, 0, -5), vdb::Vec3d(0, 0, 1));
@@ -50,14 +56,18 @@
 #include <vdb/tools/Interpolation.h>
 #include <vdb/tree/ValueAccessor.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <string>
 #include <type_traits>
 
 namespace vdb::tools {
 
 /// Finds where rays first cross the iso-surface (by default the zero level) of a narrow-band
-/// level set grid with cubic voxels.
+/// level set grid with a linear transform.
 ///
 /// Index-space entry points take a ray in the grid's index space and report index-space
 /// points and times; world-space entry points (intersectsWS) take and report world space.
@@ -75,8 +85,8 @@ public:
     static_assert(std::is_floating_point_v<ValueType>,
                   "level set intersection needs a grid of floating-point values");
 
-    /// @throw ValueError when the grid's voxels are not cubes (a rotation and one scale), or
-    ///   when it is not a level set grid (getGridClass() != GRID_LEVEL_SET).
+    /// @throw ValueError for a frustum transform, or when the grid is not a level set grid
+    ///   (getGridClass() != GRID_LEVEL_SET).
     explicit LevelSetRayIntersector(const GridT& grid, ValueType isoValue = ValueType(0));
 
     const GridT& grid() const { return *mGrid; }
@@ -144,9 +154,6 @@ private:
         double t = 0.0, f = 0.0;
         bool exact = false, valid = false;
     };
-    // Reads the corners of the trilinear cell with lower corner c, from `leaf` directly when
-    // they all lie in it (leaf may be null).
-    void getCorners(const LeafT* leaf, const Coord& c, ValueType (&v)[2][2][2]) const;
     // The interpolant minus the iso-value at p, inside the trilinear cell with lower corner c.
     double cellField(const LeafT& leaf, const Coord& c, const Vec3d& p) const;
     // Handles a sample whose sign differs from `prev`'s: true (and the crossing time in iTime)
@@ -164,6 +171,9 @@ private:
     ValueType mIsoValue;
     double mFar;  // two voxel sizes: values this far from the iso-value are far from the surface
     BBoxd mBBox;
+    // Rows: the world images of index gradients along each axis (the inverse transpose of the
+    // transform's linear part), so that a world normal is their dot products with a gradient.
+    std::array<Vec3d, 3> mNormalFromGradient;
     mutable Accessor mAcc;
     mutable HDDA mHdda;
     // The trilinear cell of the last refined crossing and its corner values.
@@ -242,11 +252,40 @@ private:
 
 namespace detail {
 
-/// Throws unless `grid` has cubic voxels under a linear transform.
+/// Throws unless `grid`'s transform is linear (any map but a frustum).
 template <typename GridT>
-void requireUniformVoxels(const GridT& grid, const char* who) {
-    if (!grid.transform().hasUniformScale())
-        throw ValueError(std::string(who) + ": the grid's voxels must be cubes (uniform scale)");
+void requireLinearTransform(const GridT& grid, const char* who) {
+    if (!grid.transform().isLinear())
+        throw ValueError(std::string(who) + ": frustum transforms are not supported");
+}
+
+/// The longest world-space distance that one index unit can span: the largest singular value
+/// of the linear part of `xform` (the voxel size for cubic voxels). @pre xform.isLinear()
+inline double maxIndexToWorldStretch(const math::Transform& xform) {
+    if (xform.hasUniformScale())
+        return xform.indexToWorldDirection(Vec3d(1, 0, 0)).length();
+    // Power iteration on A^T A, A the linear part, from each axis (one of them has a component
+    // along the dominant singular vector); the iterates' stretch grows towards the maximum.
+    double best = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        Vec3d v(0.0);
+        v[axis] = 1.0;
+        for (int iter = 0; iter < 64; ++iter) {
+            const Vec3d w = xform.indexToWorldDirection(v);
+            best = std::max(best, w.length() / v.length());
+            // A^T A v: A^T maps a world vector back along the rows of the linear part.
+            Vec3d next;
+            for (int i = 0; i < 3; ++i) {
+                Vec3d e(0.0);
+                e[i] = 1.0;
+                next[i] = xform.indexToWorldDirection(e).dot(w);
+            }
+            if (!next.normalize(0.0))
+                break;
+            v = next;
+        }
+    }
+    return best * (1.0 + 1e-9);
 }
 
 /// The index-space box of `tree`'s active voxels widened by `pad` voxels on every side, in
@@ -259,19 +298,91 @@ BBoxd paddedActiveBBox(const TreeT& tree, double pad) {
     return BBoxd(Vec3d(box.min()) - (0.5 + pad), Vec3d(box.max()) + (0.5 + pad));
 }
 
+/// Reads the values at the corners c + (a, b, k), a, b, k in {0, 1}, of the trilinear cell
+/// with lower corner `c` into v[a][b][k], given `block(m, tile)`: the leaf of the leaf-sized
+/// block m around c (bit 0 of m: the next block in +x, bit 1: in +y, bit 2: in +z, from the
+/// block of c), or null with that block's constant value stored in `tile`. Only the blocks the
+/// cell reaches into are asked for; when it lies in one leaf, its buffer is read directly.
+/// `load(leaf, n)` reads the value at offset n of a leaf (by default leaf.getValue(n)).
+template <typename LeafT, typename ValueT, typename BlockT>
+void readCellCorners(const Coord& c, ValueT (&v)[2][2][2], const BlockT& block) {
+    readCellCorners<LeafT>(c, v, block,
+                           [](const LeafT& leaf, Index n) { return leaf.getValue(n); });
+}
+template <typename LeafT, typename ValueT, typename BlockT, typename LoadT>
+void readCellCorners(const Coord& c, ValueT (&v)[2][2][2], const BlockT& block, const LoadT& load) {
+    constexpr Int32 LAST = Int32(LeafT::DIM) - 1;
+    const Coord local(c[0] & LAST, c[1] & LAST, c[2] & LAST);
+    // Along each axis where the cell sticks out of its block, the upper corners lie in the
+    // next block.
+    const int out = (local[0] == LAST) | (local[1] == LAST) << 1 | (local[2] == LAST) << 2;
+    if (out == 0) {
+        ValueT tile{};
+        if (const LeafT* leaf = block(0, tile)) {
+            constexpr Index X = Index(1) << (2 * LeafT::LOG2DIM), Y = Index(1) << LeafT::LOG2DIM;
+            const Index n = LeafT::coordToOffset(c);
+            for (Index a = 0; a < 2; ++a)
+                for (Index b = 0; b < 2; ++b) {
+                    v[a][b][0] = load(*leaf, n + a * X + b * Y);
+                    v[a][b][1] = load(*leaf, n + a * X + b * Y + 1);
+                }
+        } else {
+            for (ValueT* x = &v[0][0][0]; x != &v[0][0][0] + 8; ++x)
+                *x = tile;
+        }
+        return;
+    }
+    const LeafT* leaves[8] = {};
+    ValueT tiles[8] = {};
+    for (int m = 0; m < 8; ++m)
+        if ((m & ~out) == 0)
+            leaves[m] = block(m, tiles[m]);
+    for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+            for (int k = 0; k < 2; ++k) {
+                const int m = (a & out) | ((b << 1) & out) | ((k << 2) & out);
+                v[a][b][k] = leaves[m] ? load(*leaves[m], LeafT::coordToOffset(c.offsetBy(a, b, k)))
+                                       : tiles[m];
+            }
+}
+
+/// readCellCorners() with the blocks found through `acc`, or `leaf` where it is one of them
+/// (`leaf` may be null or any leaf of the tree).
+template <typename AccT, typename LeafT, typename ValueT>
+void getCellCorners(const AccT& acc, const LeafT* leaf, const Coord& c, ValueT (&v)[2][2][2]) {
+    constexpr Int32 DIM = Int32(LeafT::DIM);
+    const Coord base = c.alignedDown(LeafT::LOG2DIM);
+    readCellCorners<LeafT>(c, v, [&](int m, ValueT& tile) -> const LeafT* {
+        const Coord origin = base.offsetBy(m & 1 ? DIM : 0, m & 2 ? DIM : 0, m & 4 ? DIM : 0);
+        if (leaf && leaf->origin() == origin)
+            return leaf;
+        const LeafT* found = acc.probeConstLeaf(origin);
+        if (!found)
+            tile = acc.getValue(origin);
+        return found;
+    });
+}
+
 }  // namespace detail
 
 template <typename GridT>
 LevelSetRayIntersector<GridT>::LevelSetRayIntersector(const GridT& grid, ValueType isoValue)
     : mGrid(&grid),
       mIsoValue(isoValue),
-      mFar(2.0 * grid.voxelSize()[0]),
+      mFar(0.0),
       mBBox(detail::paddedActiveBBox(grid.tree(), 1.0)),
       mAcc(grid.tree()),
       mHdda(grid.tree(), /*mergeTiles=*/true) {
-    detail::requireUniformVoxels(grid, "LevelSetRayIntersector");
+    detail::requireLinearTransform(grid, "LevelSetRayIntersector");
     if (grid.getGridClass() != GRID_LEVEL_SET)
         throw ValueError("LevelSetRayIntersector: the grid is not a level set");
+    const math::Transform& xform = grid.transform();
+    mFar = 2.0 * detail::maxIndexToWorldStretch(xform);
+    for (int j = 0; j < 3; ++j) {
+        Vec3d e(0.0);
+        e[j] = 1.0;
+        mNormalFromGradient[size_t(j)] = xform.worldToIndexDirection(e);
+    }
 }
 
 template <typename GridT>
@@ -292,7 +403,7 @@ double LevelSetRayIntersector<GridT>::refine(const RayType& ray, double ta, doub
     mHitCellValid = BBoxd(lo, hi).isInside(pa) && BBoxd(lo, hi).isInside(pb);
     if (mHitCellValid) {
         mHitCell = c;
-        getCorners(leaf, c, mHitCorners);
+        detail::getCellCorners(mAcc, leaf, c, mHitCorners);
     }
     auto f = [&](double t) {
         if (!mHitCellValid)
@@ -328,57 +439,13 @@ double LevelSetRayIntersector<GridT>::refine(const RayType& ray, double ta, doub
 }
 
 template <typename GridT>
-void LevelSetRayIntersector<GridT>::getCorners(const LeafT* leaf, const Coord& c,
-                                               ValueType (&v)[2][2][2]) const {
-    constexpr uint32_t LAST = LeafT::DIM - 1;
-    if (leaf) {
-        const Coord local = c - leaf->origin();
-        if (uint32_t(local[0]) < LAST && uint32_t(local[1]) < LAST && uint32_t(local[2]) < LAST) {
-            // All eight corners lie in this leaf: read its buffer directly.
-            constexpr Index X = Index(1) << (2 * LeafT::LOG2DIM), Y = Index(1) << LeafT::LOG2DIM;
-            const Index n = LeafT::coordToOffset(c);
-            for (Index a = 0; a < 2; ++a)
-                for (Index b = 0; b < 2; ++b) {
-                    const Index m = n + a * X + b * Y;
-                    v[a][b][0] = leaf->getValue(m);
-                    v[a][b][1] = leaf->getValue(m + 1);
-                }
-            return;
-        }
-    }
-    // The cell straddles leaves: along each axis where it sticks out of the leaf of c, the
-    // upper corners lie in the next leaf. Find each of the (up to 8) leaves once, then read
-    // every corner from its leaf, or through the accessor where there is no leaf.
-    const Coord base = c.alignedDown(LeafT::LOG2DIM);
-    const Coord local = c - base;
-    const int out =
-        (local[0] == Int32(LAST)) | (local[1] == Int32(LAST)) << 1 | (local[2] == Int32(LAST)) << 2;
-    const LeafT* leaves[8] = {};
-    for (int m = 0; m < 8; ++m) {
-        if ((m & ~out) != 0)
-            continue;
-        const Coord origin =
-            base.offsetBy(m & 1 ? Int32(LeafT::DIM) : 0, m & 2 ? Int32(LeafT::DIM) : 0,
-                          m & 4 ? Int32(LeafT::DIM) : 0);
-        leaves[m] = leaf && leaf->origin() == origin ? leaf : mAcc.probeConstLeaf(origin);
-    }
-    for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b)
-            for (int k = 0; k < 2; ++k) {
-                const Coord ijk = c.offsetBy(a, b, k);
-                const LeafT* l = leaves[(a & out) | ((b << 1) & out) | ((k << 2) & out)];
-                v[a][b][k] = l ? l->getValue(LeafT::coordToOffset(ijk)) : mAcc.getValue(ijk);
-            }
-}
-
-template <typename GridT>
 double LevelSetRayIntersector<GridT>::cellField(const LeafT& leaf, const Coord& c,
                                                 const Vec3d& p) const {
     Vec3d uvw = p - Vec3d(c);
     for (int i = 0; i < 3; ++i)
         uvw[i] = math::clamp01(uvw[i]);
     ValueType v[2][2][2];
-    getCorners(&leaf, c, v);
+    detail::getCellCorners(mAcc, &leaf, c, v);
     return double(BoxSampler::trilinear(v, uvw)) - double(mIsoValue);
 }
 
@@ -509,15 +576,18 @@ bool LevelSetRayIntersector<GridT>::intersectsWS(const RayType& wRay, Vec3d& xyz
     const Vec3d ijk = iRay(t);
     xyz = xform.indexToWorld(ijk);
     wTime = (xyz - wRay.eye()).dot(wRay.dir()) / wRay.dir().lengthSqr();
-    // With cubic voxels the inverse transpose of the linear part is a multiple of it.
-    normal = xform.indexToWorldDirection(hitGradient(ijk)).unitSafe();
+    // World gradient: the index gradient through the inverse transpose of the linear part.
+    const Vec3d g = hitGradient(ijk);
+    normal = Vec3d(mNormalFromGradient[0].dot(g), mNormalFromGradient[1].dot(g),
+                   mNormalFromGradient[2].dot(g))
+                 .unitSafe();
     return true;
 }
 
 template <typename GridT>
 VolumeRayIntersector<GridT>::VolumeRayIntersector(const GridT& grid)
     : mGrid(&grid), mBBox(detail::paddedActiveBBox(grid.tree(), 0.0)), mHdda(grid.tree()) {
-    detail::requireUniformVoxels(grid, "VolumeRayIntersector");
+    detail::requireLinearTransform(grid, "VolumeRayIntersector");
 }
 
 template <typename GridT>

@@ -273,7 +273,9 @@ void floodFillLevels(const ListsT& lists, const OpT& op, bool threaded) {
     }
 }
 
-template <typename TreeT>
+/// The fill of the levels FIRST and up: FIRST = 1 leaves the leaves as they are (a tool that
+/// signs every voxel of its leaves itself fills only the tiles).
+template <Index FIRST = 0, typename TreeT>
 void signedFloodFillImpl(TreeT& tree, const typename TreeT::ValueType& outside,
                          const typename TreeT::ValueType& inside, bool threaded) {
     using TopT = typename TreeT::TopNodeType;
@@ -285,8 +287,8 @@ void signedFloodFillImpl(TreeT& tree, const typename TreeT::ValueType& outside,
         }
     };
     {
-        const NodeLists<TreeT> lists(tree, 0);
-        floodFillLevels<0, TopT::LEVEL>(lists, fillNode, threaded);
+        const NodeLists<TreeT> lists(tree, FIRST);
+        floodFillLevels<FIRST, TopT::LEVEL>(lists, fillNode, threaded);
     }
     if constexpr (tree::IS_ROOT_NODE<TopT>) {
         floodFillRoot(tree.topNode(), inside);

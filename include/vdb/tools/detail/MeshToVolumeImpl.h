@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
-/// The machinery of tools/MeshToVolume.h: the point-triangle distance kernel, the scanline
-/// crossings of the flood-fill sign, the winding-number hierarchy, and the block-by-block
-/// builder. Included by MeshToVolume.h after its declarations. Not API.
+/// The machinery of tools/MeshToVolume.h: the point-triangle distance kernel, the signed
+/// crossing counts along scanlines, the winding-number hierarchy of the hole patches, the
+/// block-by-block builder, and meshToVolume() itself, which chooses the sign rule from the
+/// mesh's topology (detail/MeshTopology.h). Included by MeshToVolume.h after its
+/// declarations. Not API.
 
 #pragma once
 
@@ -14,6 +16,9 @@
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/SignedFloodFill.h>
 #include <vdb/tools/detail/BlockRaster.h>
+#include <vdb/tools/detail/MeshTopology.h>
+#include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeUtil.h>
 #include <vdb/util/Parallel.h>
 
 #include <algorithm>
@@ -26,6 +31,7 @@
 #include <numbers>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -94,7 +100,7 @@ struct DistanceTriangle {
     }
 };
 
-// ---- Scanline crossings (MeshSign::FloodFill) ----
+// ---- Scanline crossings ----
 
 /// Lexicographic order of points, which names one end of every edge its first, so that the two
 /// triangles sharing an edge evaluate it with the same arithmetic.
@@ -121,98 +127,374 @@ inline int scanlineEdgeSide(const Vec3d& p, const Vec3d& q, double x, double y, 
     return swap ? -side : side;
 }
 
-/// True when the z-line through (x, y) crosses triangle (p0, p1, p2); `z` receives where.
-inline bool scanlineCrossing(const Vec3d& p0, const Vec3d& p1, const Vec3d& p2, double x, double y,
-                             double& z) {
+/// How the z-line through (x, y) crosses triangle (p0, p1, p2): +1 through a triangle that turns
+/// counter-clockwise seen from +z, -1 through one that turns clockwise, 0 when it misses (a
+/// line through a shared edge or vertex crosses exactly one of the triangles that share it);
+/// `z` receives where it crosses.
+inline int scanlineCrossing(const Vec3d& p0, const Vec3d& p1, const Vec3d& p2, double x, double y,
+                            double& z) {
     double e2 = 0, e0 = 0, e1 = 0;
     const int s2 = scanlineEdgeSide(p0, p1, x, y, e2);
     const int s0 = scanlineEdgeSide(p1, p2, x, y, e0);
     const int s1 = scanlineEdgeSide(p2, p0, x, y, e1);
     if (s0 == 0 || s0 != s1 || s0 != s2)
-        return false;
+        return 0;
     // Barycentric weights: e0 belongs to p0 (the edge opposite it), and so on.
     const double sum = e0 + e1 + e2;
     z = sum != 0.0 ? (e0 * p0[2] + e1 * p1[2] + e2 * p2[2]) / sum : p0[2];
-    return true;
+    return s0;
 }
 
-/// The surface crossings of the z-lines of one block: per column (x, y) of the block, the
-/// sorted z of the crossings that lie in the block, and the parity of their count.
-struct BlockCrossings {
-    std::vector<uint32_t> start;  // crossings of column c: z[start[c], start[c + 1])
-    std::vector<double> z;
-    std::vector<uint64_t> parity;  // bit c: column c crosses an odd number of times here
-};
-
-// ---- Generalized winding number (MeshSign::WindingNumber) ----
-
-/// A bounding volume hierarchy over triangles that evaluates the generalized winding number
-/// (sum of signed solid angles over 4 pi) at a point: clusters farther than `ACCURACY` times
-/// their radius count as dipoles, the rest triangle by triangle.
-/// Threads: build once, then evaluate() concurrently.
-class WindingNumberTree {
+/// Signed crossing counts along the z-lines through voxel centres, block by block: the count
+/// below a point is the sum over the surface crossings below it on its line of -1 where the
+/// surface faces up (+z side out) and +1 where it faces down, each times the weight of its
+/// triangle. For a closed surface that is the winding number of the point.
+///
+/// Every block of the buckets keeps, per column (x, y), the crossings that lie in it (the
+/// block holding floor(z)) sorted by z, and the count below the block, summed over the
+/// blocks under it in its stack (blocks with the same x and y).
+/// Threads: built in parallel per block; then read concurrently.
+template <Index BlockLog2>
+class ScanlineCounts {
 public:
-    static constexpr double ACCURACY = 2.5;
-    static constexpr uint32_t LEAF_SIZE = 8;
+    static constexpr Int32 BLOCK_DIM = Int32(1) << BlockLog2;
+    static constexpr Index COLUMNS = Index(1) << (2 * BlockLog2);
 
-    WindingNumberTree(const std::vector<Vec3d>& points, const std::vector<Vec3I>& triangles)
-        : mPoints(points), mTriangles(triangles) {
-        if (triangles.empty())
-            return;
-        mOrder.resize(triangles.size());
-        std::vector<Vec3d> centroid(triangles.size());
-        for (size_t t = 0; t < triangles.size(); ++t) {
-            mOrder[t] = uint32_t(t);
-            const Vec3I& v = triangles[t];
-            centroid[t] = (points[v[0]] + points[v[1]] + points[v[2]]) / 3.0;
+    /// `corners(id, p)` stores the corners of primitive `id` in p[0..2] and returns its weight.
+    template <typename CornersT>
+    ScanlineCounts(const BlockBuckets& buckets, const CornersT& corners, bool threaded)
+        : mOrigins(buckets.origins), mBlocks(buckets.size()) {
+        util::parallelFor(
+            mBlocks.size(),
+            [&](size_t b) {
+                const Coord origin = mOrigins[b];
+                struct Hit {
+                    uint32_t col;
+                    double z;
+                    int8_t delta;
+                    bool operator<(const Hit& o) const {
+                        return col < o.col ||
+                               (col == o.col && (z < o.z || (z == o.z && delta < o.delta)));
+                    }
+                };
+                std::vector<Hit> hits;
+                std::array<Vec3d, 3> p;
+                for (uint32_t id : buckets.primitives(b)) {
+                    const int weight = corners(id, p);
+                    const Vec3d lo = Vec3d::minComponent(p[0], Vec3d::minComponent(p[1], p[2]));
+                    const Vec3d hi = Vec3d::maxComponent(p[0], Vec3d::maxComponent(p[1], p[2]));
+                    const Int32 i0 = std::max(origin[0], Int32(std::ceil(lo[0])));
+                    const Int32 i1 = std::min(origin[0] + BLOCK_DIM - 1, Int32(std::floor(hi[0])));
+                    const Int32 j0 = std::max(origin[1], Int32(std::ceil(lo[1])));
+                    const Int32 j1 = std::min(origin[1] + BLOCK_DIM - 1, Int32(std::floor(hi[1])));
+                    for (Int32 i = i0; i <= i1; ++i) {
+                        for (Int32 j = j0; j <= j1; ++j) {
+                            double z = 0.0;
+                            const int side =
+                                scanlineCrossing(p[0], p[1], p[2], double(i), double(j), z);
+                            // A crossing belongs to the block holding floor(z).
+                            if (side == 0 ||
+                                (Int32(std::floor(z)) & ~(BLOCK_DIM - 1)) != origin[2]) {
+                                continue;
+                            }
+                            const uint32_t col =
+                                (uint32_t(i - origin[0]) << BlockLog2) | uint32_t(j - origin[1]);
+                            hits.push_back({col, z, int8_t(-side * weight)});
+                        }
+                    }
+                }
+                std::sort(hits.begin(), hits.end());
+                Block& out = mBlocks[b];
+                out.start.assign(COLUMNS + 1, 0);
+                out.z.resize(hits.size());
+                out.delta.resize(hits.size());
+                for (size_t n = 0; n < hits.size(); ++n) {
+                    ++out.start[hits[n].col + 1];
+                    out.z[n] = hits[n].z;
+                    out.delta[n] = hits[n].delta;
+                }
+                for (Index c = 0; c < COLUMNS; ++c)
+                    out.start[c + 1] += out.start[c];
+            },
+            threaded, 1);
+        // Blocks are sorted by (x, y, z): each stack of blocks along z is one run.
+        for (size_t b = 0; b < mBlocks.size(); ++b) {
+            std::vector<int32_t>& below = mBlocks[b].below;
+            below.assign(COLUMNS, 0);
+            if (b == 0 || mOrigins[b][0] != mOrigins[b - 1][0] ||
+                mOrigins[b][1] != mOrigins[b - 1][1]) {
+                continue;
+            }
+            const Block& prev = mBlocks[b - 1];
+            for (Index c = 0; c < COLUMNS; ++c) {
+                int32_t k = prev.below[c];
+                for (uint32_t h = prev.start[c]; h < prev.start[c + 1]; ++h)
+                    k += prev.delta[h];
+                below[c] = k;
+            }
         }
-        mNodes.reserve(4 * triangles.size() / LEAF_SIZE + 2);
-        mNodes.push_back({});
-        fill(0, 0, uint32_t(triangles.size()), centroid);
     }
 
-    /// The winding number at `q` (about 1 inside a closed mesh whose triangles turn
-    /// counter-clockwise seen from outside, -1 for the opposite orientation, 0 outside).
-    double evaluate(const Vec3d& q) const {
+    /// The counts below the voxels of the leaf of `leafOrigin` in block `b`, in the leaf's
+    /// offset order.
+    template <typename LeafT>
+    void leafCounts(size_t b, const Coord& leafOrigin, int32_t* counts) const {
+        constexpr Int32 DIM = Int32(LeafT::DIM);
+        const Coord origin = mOrigins[b];
+        const Block& block = mBlocks[b];
+        for (Int32 x = 0; x < DIM; ++x) {
+            for (Int32 y = 0; y < DIM; ++y) {
+                const uint32_t col = (uint32_t(leafOrigin[0] - origin[0] + x) << BlockLog2) |
+                                     uint32_t(leafOrigin[1] - origin[1] + y);
+                int32_t k = block.below[col];
+                uint32_t h = block.start[col];
+                const uint32_t end = block.start[col + 1];
+                const Index row = LeafT::coordToOffset(Coord(x, y, 0));
+                for (Int32 z = 0; z < DIM; ++z) {
+                    const double at = double(leafOrigin[2] + z);
+                    while (h < end && block.z[h] < at)
+                        k += block.delta[h++];
+                    counts[row + Index(z)] = k;
+                }
+            }
+        }
+    }
+
+    /// The count below (i, j, z), anywhere: 0 outside the stacks of the blocks.
+    int32_t countAt(Int32 i, Int32 j, double z) const {
+        constexpr Int32 LOW = ~(BLOCK_DIM - 1);
+        const Coord key(i & LOW, j & LOW, Int32(std::floor(z)) & LOW);
+        // The highest block at or below `key` in its stack.
+        auto it = std::upper_bound(mOrigins.begin(), mOrigins.end(), key);
+        if (it == mOrigins.begin())
+            return 0;
+        --it;
+        if ((*it)[0] != key[0] || (*it)[1] != key[1])
+            return 0;
+        const Block& block = mBlocks[size_t(it - mOrigins.begin())];
+        const uint32_t col = (uint32_t(i - key[0]) << BlockLog2) | uint32_t(j - key[1]);
+        const bool below = (*it)[2] < key[2];
+        int32_t k = block.below[col];
+        for (uint32_t h = block.start[col]; h < block.start[col + 1]; ++h) {
+            if (below || block.z[h] < z)
+                k += block.delta[h];
+        }
+        return k;
+    }
+
+private:
+    struct Block {
+        std::vector<uint32_t> start;  // crossings of column c: [start[c], start[c + 1])
+        std::vector<double> z;        // ascending within a column
+        std::vector<int8_t> delta;    // what each crossing adds to the count above it
+        std::vector<int32_t> below;   // per column: the count below the block
+    };
+    const std::vector<Coord>& mOrigins;
+    std::vector<Block> mBlocks;
+};
+
+// ---- Generalized winding number of the hole patches ----
+
+/// A bounding volume hierarchy over triangles that evaluates their generalized winding number
+/// (sum of signed solid angles over 4 pi) at a point, after Barill et al. 2018: clusters
+/// farther than `ACCURACY` times their radius count as dipoles (area-weighted normal at the
+/// area-weighted centroid), the rest triangle by triangle (van Oosterom and Strackee's
+/// formula). Triangles are first bisected until no edge exceeds `maxEdge`, so that clusters
+/// stay small where the triangles are long. isBelow() bounds the winding number over a ball.
+/// Threads: build once, then call the const members concurrently.
+class WindingNumberTree {
+public:
+    static constexpr double ACCURACY = 2.0;
+    static constexpr uint32_t LEAF_SIZE = 2;
+    using Triangle = std::array<Vec3d, 3>;
+
+    WindingNumberTree(const std::vector<Triangle>& triangles, double maxEdge) {
+        for (const Triangle& t : triangles)
+            addPieces(t, maxEdge * maxEdge, 0);
+        if (mTriangles.empty())
+            return;
+        mOrder.resize(mTriangles.size());
+        std::vector<Vec3d> centroid(mTriangles.size());
+        for (size_t t = 0; t < mTriangles.size(); ++t) {
+            mOrder[t] = uint32_t(t);
+            centroid[t] = (mTriangles[t][0] + mTriangles[t][1] + mTriangles[t][2]) / 3.0;
+        }
+        mNodes.reserve(4 * mTriangles.size() / LEAF_SIZE + 2);
+        mNodes.push_back({});
+        fill(0, 0, uint32_t(mTriangles.size()), centroid);
+    }
+
+    /// The clusters that are far (dipoles) for every point within `radius` of `center`, and
+    /// the triangles of the others, for evaluating many points of one ball (evaluate(q, local)).
+    struct Local {
+        std::vector<uint32_t> far, near;
+    };
+
+    void gather(const Vec3d& center, double radius, Local& local) const {
+        local.far.clear();
+        local.near.clear();
         if (mNodes.empty())
-            return 0.0;
-        double omega = 0.0;
+            return;
         std::array<uint32_t, 64> stack;
         size_t top = 0;
         stack[top++] = 0;
         while (top > 0) {
-            const Node& node = mNodes[stack[--top]];
-            const Vec3d d = node.center - q;
-            const double dd = d.dot(d);
-            if (dd > ACCURACY * ACCURACY * node.radius * node.radius) {
-                omega += d.dot(node.areaNormal) / (dd * std::sqrt(dd));
+            const uint32_t index = stack[--top];
+            const Node& node = mNodes[index];
+            if ((node.center - center).length() - radius > ACCURACY * node.radius) {
+                local.far.push_back(index);
             } else if (node.count > 0) {
                 for (uint32_t n = node.first; n < node.first + node.count; ++n)
-                    omega += solidAngle(mTriangles[mOrder[n]], q);
+                    local.near.push_back(mOrder[n]);
             } else {
                 stack[top++] = node.left;
                 stack[top++] = node.left + 1;
             }
         }
+    }
+
+    /// The winding number at a point `q` of the ball `local` was gathered for (about 1 inside
+    /// a closed surface whose triangles turn counter-clockwise seen from outside, -1 for the
+    /// opposite orientation, 0 outside).
+    double evaluate(const Vec3d& q, const Local& local) const {
+        double variation = 0.0;
+        return evaluate(q, local, 0.0, variation);
+    }
+
+    /// As above, and in `variation` a bound on how far the same sum moves within `radius` of
+    /// q (the gradient of a dipole, and of a triangle's solid angle, is at most twice the area
+    /// over the cubed distance); infinite when a near triangle reaches into that ball.
+    double evaluate(const Vec3d& q, const Local& local, double radius, double& variation) const {
+        double omega = 0.0, vary = 0.0;
+        for (uint32_t index : local.far) {
+            const Node& node = mNodes[index];
+            const Vec3d d = node.center - q;
+            const double dd = d.dot(d);
+            const double dist = std::sqrt(dd);
+            omega += d.dot(node.areaNormal) / (dd * dist);
+            if (radius > 0.0) {
+                const double g = dist - radius;
+                vary += 2.0 * node.area * radius / (g * g * g);
+            }
+        }
+        // The near triangles' solid angles, 2 atan2(det, div) each (van Oosterom and Strackee),
+        // add up as twice the argument of the product of the numbers (div + i det) / scale,
+        // with the turns the product makes round 0 counted: one atan2 for them all.
+        double re = 1.0, im = 0.0;
+        int turns = 0;
+        for (uint32_t t : local.near) {
+            const Triangle& tri = mTriangles[t];
+            const Vec3d a = tri[0] - q, b = tri[1] - q, c = tri[2] - q;
+            const double det = a.dot(b.cross(c));
+            const double la = a.length(), lb = b.length(), lc = c.length();
+            const double scale = la * lb * lc;
+            if (det != 0.0 && scale > 0.0) {
+                const double div = scale + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+                const double zr = div / scale, zi = det / scale;
+                const double nr = re * zr - im * zi, ni = re * zi + im * zr;
+                // A positive angle (below pi) crosses the negative real axis when the product
+                // goes from the upper half plane to the lower one, a negative angle the other way.
+                turns += int(det > 0.0 && im >= 0.0 && ni < 0.0) -
+                         int(det < 0.0 && im < 0.0 && ni >= 0.0);
+                re = nr;
+                im = ni;
+                const double size = std::abs(re) + std::abs(im);
+                if (size > 1e100 || size < 1e-100) {
+                    re /= size;
+                    im /= size;
+                }
+            }
+            if (radius > 0.0) {
+                const Vec3d m = (tri[0] + tri[1] + tri[2]) / 3.0;
+                const double r =
+                    std::sqrt(std::max({(tri[0] - m).lengthSqr(), (tri[1] - m).lengthSqr(),
+                                        (tri[2] - m).lengthSqr()}));
+                const double g = (m - q).length() - r - radius;
+                vary += g > 0.0 ? (tri[1] - tri[0]).cross(tri[2] - tri[0]).length() * radius /
+                                      (g * g * g)
+                                : std::numeric_limits<double>::infinity();
+            }
+        }
+        omega += 2.0 * (std::atan2(im, re) + 2.0 * std::numbers::pi * double(turns));
+        variation = vary / (4.0 * std::numbers::pi);
         return omega / (4.0 * std::numbers::pi);
     }
 
+    /// True when the winding number is certainly below `limit` in magnitude at every point
+    /// within `radius` of `center`. A cluster whose bounding sphere is at a distance g from
+    /// the ball adds the smaller of two bounds on its solid angle: its area over g^2, and its
+    /// dipole term at the centre plus the dipole's error and variation over the ball,
+    /// 2 area (cluster radius + radius) / g^3 (the gradient of a triangle's solid-angle kernel
+    /// is at most 2 / distance^3). Near clusters are opened; a triangle within the ball fails.
+    bool isBelow(const Vec3d& center, double radius, double limit) const {
+        if (mNodes.empty())
+            return true;
+        const double budget = limit * 4.0 * std::numbers::pi;
+        double bound = 0.0;
+        std::array<uint32_t, 64> stack;
+        size_t top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = mNodes[stack[--top]];
+            const Vec3d d = node.center - center;
+            const double dist = d.length();
+            const double gap = dist - node.radius - radius;
+            if (gap > 2.0 * (node.radius + radius)) {
+                const double dipole = std::abs(d.dot(node.areaNormal)) / (dist * dist * dist);
+                bound +=
+                    std::min(node.area / (gap * gap),
+                             dipole + 2.0 * node.area * (node.radius + radius) / (gap * gap * gap));
+            } else if (node.count > 0) {
+                for (uint32_t n = node.first; n < node.first + node.count; ++n) {
+                    const Triangle& t = mTriangles[mOrder[n]];
+                    const Vec3d m = (t[0] + t[1] + t[2]) / 3.0;
+                    const double r = std::sqrt(std::max(
+                        {(t[0] - m).lengthSqr(), (t[1] - m).lengthSqr(), (t[2] - m).lengthSqr()}));
+                    const double g = (m - center).length() - r - radius;
+                    if (!(g > 0.0))
+                        return false;
+                    bound += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() / (g * g);
+                }
+            } else {
+                stack[top++] = node.left;
+                stack[top++] = node.left + 1;
+            }
+            if (bound >= budget)
+                return false;
+        }
+        return true;
+    }
+
 private:
+    /// Adds t, bisected across its longest edge until every edge is at most sqrt(maxEdge2);
+    /// triangles without area are left out (their solid angle is 0).
+    void addPieces(const Triangle& t, double maxEdge2, int depth) {
+        const Vec3d e[3] = {t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+        if (e[0].cross(e[2]) == Vec3d(0.0))
+            return;
+        const double l[3] = {e[0].lengthSqr(), e[1].lengthSqr(), e[2].lengthSqr()};
+        const int k = l[0] >= l[1] && l[0] >= l[2] ? 0 : (l[1] >= l[2] ? 1 : 2);
+        if (l[k] <= maxEdge2 || depth >= 40) {
+            mTriangles.push_back(t);
+            return;
+        }
+        // Corners k and k + 1 bound the longest edge; the opposite corner is k + 2.
+        const Vec3d& a = t[k];
+        const Vec3d& b = t[(k + 1) % 3];
+        const Vec3d& c = t[(k + 2) % 3];
+        const Vec3d m = 0.5 * (a + b);
+        addPieces({a, m, c}, maxEdge2, depth + 1);
+        addPieces({m, b, c}, maxEdge2, depth + 1);
+    }
+
     struct Node {
         Vec3d center;           // area-weighted centroid
         Vec3d areaNormal;       // sum of the triangles' area vectors
         double radius;          // of the ball around `center` that holds the triangles
+        double area;            // sum of the triangles' areas
         uint32_t first, count;  // a leaf's triangles: mOrder[first, first + count)
         uint32_t left;          // an inner node's children: left and left + 1
     };
-
-    double solidAngle(const Vec3I& v, const Vec3d& q) const {
-        const Vec3d a = mPoints[v[0]] - q, b = mPoints[v[1]] - q, c = mPoints[v[2]] - q;
-        const double la = a.length(), lb = b.length(), lc = c.length();
-        const double det = a.dot(b.cross(c));
-        const double div = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-        return 2.0 * std::atan2(det, div);
-    }
 
     // Fills node `index` for the triangles mOrder[first, last), splitting it when it holds
     // more than LEAF_SIZE; children are made in pairs so that one index names both.
@@ -221,11 +503,8 @@ private:
         double area = 0.0;
         Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
         for (uint32_t n = first; n < last; ++n) {
-            const Vec3I& v = mTriangles[mOrder[n]];
-            const Vec3d& a = mPoints[v[0]];
-            const Vec3d& b = mPoints[v[1]];
-            const Vec3d& c = mPoints[v[2]];
-            const Vec3d an = (b - a).cross(c - a) * 0.5;
+            const Triangle& t = mTriangles[mOrder[n]];
+            const Vec3d an = (t[1] - t[0]).cross(t[2] - t[0]) * 0.5;
             const double ar = an.length();
             areaNormal += an;
             area += ar;
@@ -237,11 +516,10 @@ private:
         const Vec3d center = area > 0.0 ? weighted / area : mean / double(last - first);
         double radius = 0.0;
         for (uint32_t n = first; n < last; ++n) {
-            const Vec3I& v = mTriangles[mOrder[n]];
-            for (int k = 0; k < 3; ++k)
-                radius = std::max(radius, (mPoints[v[k]] - center).lengthSqr());
+            for (const Vec3d& p : mTriangles[mOrder[n]])
+                radius = std::max(radius, (p - center).lengthSqr());
         }
-        Node node{center, areaNormal, std::sqrt(radius), first, last - first, 0};
+        Node node{center, areaNormal, std::sqrt(radius), area, first, last - first, 0};
         if (last - first > LEAF_SIZE) {
             // Split at the median centroid along the longest axis of the centroids' box.
             const Vec3d ext = hi - lo;
@@ -264,13 +542,28 @@ private:
         mNodes[index] = node;
     }
 
-    const std::vector<Vec3d>& mPoints;
-    const std::vector<Vec3I>& mTriangles;
+    std::vector<Triangle> mTriangles;
     std::vector<uint32_t> mOrder;
     std::vector<Node> mNodes;
 };
 
 // ---- The builder ----
+
+/// How the builder decides which voxels are inside, from the crossing count k below a voxel
+/// (ScanlineCounts) and the winding number w of the hole patches at its centre.
+enum class SignRule {
+    None,           // unsigned distances
+    Parity,         // k odd
+    NonZero,        // k != 0: the winding number of a closed mesh
+    WindingNumber,  // |k + w| > 1/2: the generalized winding number of a mesh with holes
+};
+
+/// The sign rule and the hole patches (crossed with weight -1, so that mesh minus patches is
+/// closed) that meshToVolume() chose from the mesh's topology.
+struct MeshSigning {
+    SignRule rule = SignRule::None;
+    std::vector<std::array<Vec3d, 3>> patches;
+};
 
 /// Writes the band of a mesh (index-space points, triangles) into an empty tree and signs it.
 /// One class per tree type so that the standard trees are instantiated once
@@ -278,112 +571,122 @@ private:
 template <typename TreeT>
 struct MeshToVolumeBuilder {
     static void build(TreeT& tree, const std::vector<Vec3d>& points,
-                      const std::vector<Vec3I>& triangles, double voxelSize,
-                      const MeshToVolumeOptions& options);
+                      const std::vector<Vec3I>& triangles, const MeshSigning& signing,
+                      double voxelSize, const MeshToVolumeOptions& options);
 };
 
 template <typename TreeT>
 void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& points,
-                                       const std::vector<Vec3I>& triangles, double voxelSize,
+                                       const std::vector<Vec3I>& triangles,
+                                       const MeshSigning& signing, double voxelSize,
                                        const MeshToVolumeOptions& options) {
     using LeafT = typename TreeT::LeafNodeType;
     using ValueT = typename TreeT::ValueType;
     constexpr Int32 LEAF_DIM = Int32(LeafT::DIM);
     constexpr Index BLOCK_LOG2 = blockLog2<TreeT>();
-    constexpr Int32 BLOCK_DIM = Int32(1) << BLOCK_LOG2;
     using Leaves = BlockLeaves<LeafT, BLOCK_LOG2>;
-    constexpr Index COLUMNS = Index(1) << (2 * BLOCK_LOG2);
 
     const bool threaded = options.threaded;
-    const bool isSigned = options.sign != MeshSign::Unsigned;
+    const SignRule rule = signing.rule;
+    const bool isSigned = rule != SignRule::None;
     const double exBand = double(options.exteriorBandWidth);
     const double inBand = isSigned ? double(options.interiorBandWidth) : exBand;
     const double band = std::max(exBand, inBand);
     const double band2 = band * band;
     const ValueT outsideValue = ValueT(exBand * voxelSize);
     const ValueT insideValue = ValueT(-inBand * voxelSize);
+    const size_t triangleCount = triangles.size();
+    const auto& patches = signing.patches;
 
-    // Bucket the triangles by the blocks their bands reach.
+    // Primitive ids: the triangles, then the patch triangles (whose crossings alone matter).
+    const auto corners = [&](size_t id, std::array<Vec3d, 3>& p) {
+        if (id < triangleCount) {
+            const Vec3I& v = triangles[id];
+            p = {points[v[0]], points[v[1]], points[v[2]]};
+            return 1;
+        }
+        p = patches[id - triangleCount];
+        return -1;
+    };
+
+    // Bucket the triangles by the blocks their bands reach, the patches by the blocks they
+    // cross.
     const BlockBuckets buckets = bucketByBlock(
-        triangles.size(), BLOCK_LOG2,
-        [&](size_t t, CoordBBox& box) {
-            const Vec3I& v = triangles[t];
-            const Vec3d& a = points[v[0]];
-            const Vec3d& b = points[v[1]];
-            const Vec3d& c = points[v[2]];
-            box =
-                voxelReach(Vec3d::minComponent(a, Vec3d::minComponent(b, c)),
-                           Vec3d::maxComponent(a, Vec3d::maxComponent(b, c)), band, "meshToVolume");
+        triangleCount + patches.size(), BLOCK_LOG2,
+        [&](size_t id, CoordBBox& box) {
+            std::array<Vec3d, 3> p;
+            corners(id, p);
+            box = voxelReach(Vec3d::minComponent(p[0], Vec3d::minComponent(p[1], p[2])),
+                             Vec3d::maxComponent(p[0], Vec3d::maxComponent(p[1], p[2])),
+                             id < triangleCount ? band : 1.0, "meshToVolume");
             return true;
         },
         threaded);
     const size_t blockCount = buckets.size();
 
-    // Flood-fill sign: the crossings of every block's z-lines, then the parity below each block.
-    std::vector<BlockCrossings> crossings;
-    std::vector<std::vector<uint64_t>> parityBelow;
-    if (options.sign == MeshSign::FloodFill) {
-        crossings.resize(blockCount);
-        util::parallelFor(
-            blockCount,
-            [&](size_t b) {
-                const Coord origin = buckets.origins[b];
-                std::vector<std::pair<uint32_t, double>> hits;
-                for (uint32_t t : buckets.primitives(b)) {
-                    const Vec3I& v = triangles[t];
-                    const Vec3d& p0 = points[v[0]];
-                    const Vec3d& p1 = points[v[1]];
-                    const Vec3d& p2 = points[v[2]];
-                    const Vec3d lo = Vec3d::minComponent(p0, Vec3d::minComponent(p1, p2));
-                    const Vec3d hi = Vec3d::maxComponent(p0, Vec3d::maxComponent(p1, p2));
-                    const Int32 i0 = std::max(origin[0], Int32(std::ceil(lo[0])));
-                    const Int32 i1 = std::min(origin[0] + BLOCK_DIM - 1, Int32(std::floor(hi[0])));
-                    const Int32 j0 = std::max(origin[1], Int32(std::ceil(lo[1])));
-                    const Int32 j1 = std::min(origin[1] + BLOCK_DIM - 1, Int32(std::floor(hi[1])));
-                    for (Int32 i = i0; i <= i1; ++i) {
-                        for (Int32 j = j0; j <= j1; ++j) {
-                            double z = 0.0;
-                            if (!scanlineCrossing(p0, p1, p2, double(i), double(j), z))
-                                continue;
-                            // A crossing belongs to the block holding floor(z).
-                            if ((Int32(std::floor(z)) & ~(BLOCK_DIM - 1)) != origin[2])
-                                continue;
-                            const uint32_t col =
-                                (uint32_t(i - origin[0]) << BLOCK_LOG2) | uint32_t(j - origin[1]);
-                            hits.emplace_back(col, z);
+    std::unique_ptr<ScanlineCounts<BLOCK_LOG2>> counts;
+    if (isSigned)
+        counts = std::make_unique<ScanlineCounts<BLOCK_LOG2>>(buckets, corners, threaded);
+    std::unique_ptr<WindingNumberTree> holes;
+    if (rule == SignRule::WindingNumber)
+        holes = std::make_unique<WindingNumberTree>(patches, double(LEAF_DIM));
+
+    // Inside or not from the count k below a point (the patches' winding number aside).
+    const auto fromCount = [&](int32_t k) {
+        return rule == SignRule::Parity ? (k & 1) != 0 : k != 0;
+    };
+    // With holes, the signs of the voxels of the leaf at `origin` from their counts `below`:
+    // inside where |k + w| > 1/2, w the patches' winding number. Where a bound keeps |w| below
+    // 1/2 over the leaf, the count alone decides. Otherwise w is evaluated at the centre of each
+    // cube of 4^3 voxels, with a bound on how far it moves within the cube; the voxels it
+    // leaves open are settled in cubes of 2^3 the same way, and the rest one by one.
+    const auto signWithHoles = [&](const Coord& origin, const auto& below, auto& inside,
+                                   WindingNumberTree::Local& local) {
+        const auto cube = [&](const auto& self, const Coord& min, Int32 size) -> void {
+            const Vec3d center = Vec3d(origin + min) + 0.5 * double(size - 1);
+            const double radius = 0.5 * double(size - 1) * std::sqrt(3.0);
+            const Int32 half = size / 2;
+            const auto eighths = [&] {
+                for (Int32 c = 0; c < 8; ++c)
+                    self(self, min.offsetBy(c & 4 ? half : 0, c & 2 ? half : 0, c & 1 ? half : 0),
+                         half);
+            };
+            if (size == LEAF_DIM) {
+                if (!holes->isBelow(center, radius, 0.5)) {
+                    eighths();
+                    return;
+                }
+                for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+                    inside[n] = fromCount(below[n]);
+                return;
+            }
+            holes->gather(center, radius, local);
+            double variation = 0.0;
+            const double w = holes->evaluate(center, local, radius, variation);
+            bool refine = false;
+            for (Int32 x = min[0]; x < min[0] + size; ++x) {
+                for (Int32 y = min[1]; y < min[1] + size; ++y) {
+                    for (Int32 z = min[2]; z < min[2] + size; ++z) {
+                        const Index n = LeafT::coordToOffset(Coord(x, y, z));
+                        const double a = std::abs(double(below[n]) + w);
+                        inside[n] = a > 0.5;
+                        if (std::abs(a - 0.5) > variation)
+                            continue;
+                        if (size > 2) {
+                            refine = true;
+                        } else {
+                            const Vec3d xyz(origin + Coord(x, y, z));
+                            inside[n] =
+                                std::abs(double(below[n]) + holes->evaluate(xyz, local)) > 0.5;
                         }
                     }
                 }
-                std::sort(hits.begin(), hits.end());
-                BlockCrossings& out = crossings[b];
-                out.start.assign(COLUMNS + 1, 0);
-                out.parity.assign(COLUMNS / 64, 0);
-                out.z.resize(hits.size());
-                for (size_t n = 0; n < hits.size(); ++n) {
-                    ++out.start[hits[n].first + 1];
-                    out.z[n] = hits[n].second;
-                    out.parity[hits[n].first >> 6] ^= uint64_t(1) << (hits[n].first & 63);
-                }
-                for (Index c = 0; c < COLUMNS; ++c)
-                    out.start[c + 1] += out.start[c];
-            },
-            threaded, 1);
-        // Blocks are sorted by (x, y, z): each stack of blocks along z is one run.
-        parityBelow.resize(blockCount);
-        for (size_t b = 0; b < blockCount; ++b) {
-            const bool sameStack = b > 0 && buckets.origins[b][0] == buckets.origins[b - 1][0] &&
-                                   buckets.origins[b][1] == buckets.origins[b - 1][1];
-            parityBelow[b].assign(COLUMNS / 64, 0);
-            if (sameStack) {
-                for (Index w = 0; w < COLUMNS / 64; ++w)
-                    parityBelow[b][w] = parityBelow[b - 1][w] ^ crossings[b - 1].parity[w];
             }
-        }
-    }
-
-    std::unique_ptr<WindingNumberTree> winding;
-    if (options.sign == MeshSign::WindingNumber)
-        winding = std::make_unique<WindingNumberTree>(points, triangles);
+            if (refine)
+                eighths();
+        };
+        cube(cube, Coord(0), LEAF_DIM);
+    };
 
     // Distances and signs, block by block, leaf by leaf.
     const double halfDiagonal = 0.5 * double(LEAF_DIM - 1) * std::sqrt(3.0);
@@ -392,7 +695,9 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
         tree, blockCount,
         [&](size_t b, std::vector<std::unique_ptr<LeafT>>& out) {
             const Coord origin = buckets.origins[b];
-            const auto ids = buckets.primitives(b);
+            const auto all = buckets.primitives(b);
+            const auto ids = all.first(size_t(
+                std::lower_bound(all.begin(), all.end(), uint32_t(triangleCount)) - all.begin()));
             std::vector<DistanceTriangle> tris;
             std::vector<CoordBBox> reach;
             tris.reserve(ids.size());
@@ -415,6 +720,9 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
             std::sort(pairs.begin(), pairs.end());
 
             std::array<double, LeafT::NUM_VALUES> dist2;
+            std::array<int32_t, LeafT::NUM_VALUES> below;
+            std::array<bool, LeafT::NUM_VALUES> inside{};
+            WindingNumberTree::Local local;
             for (size_t p = 0; p < pairs.size();) {
                 const uint32_t leafIndex = pairs[p].first;
                 size_t q = p;
@@ -481,46 +789,22 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                 if (!any)
                     continue;
 
-                // Signs: the parity of crossings below each voxel on its z-line, the winding
-                // number at its centre, or none.
-                std::array<bool, LeafT::NUM_VALUES> inside{};
-                if (options.sign == MeshSign::FloodFill) {
-                    const BlockCrossings& cr = crossings[b];
-                    const auto& below = parityBelow[b];
-                    for (Int32 x = 0; x < LEAF_DIM; ++x) {
-                        for (Int32 y = 0; y < LEAF_DIM; ++y) {
-                            const uint32_t col =
-                                (uint32_t(leafOrigin[0] - origin[0] + x) << BLOCK_LOG2) |
-                                uint32_t(leafOrigin[1] - origin[1] + y);
-                            bool in = (below[col >> 6] >> (col & 63)) & 1;
-                            uint32_t h = cr.start[col];
-                            const uint32_t end = cr.start[col + 1];
-                            const Index row = LeafT::coordToOffset(Coord(x, y, 0));
-                            for (Int32 z = 0; z < LEAF_DIM; ++z) {
-                                const double k = double(leafOrigin[2] + z);
-                                while (h < end && cr.z[h] < k) {
-                                    in = !in;
-                                    ++h;
-                                }
-                                inside[row + Index(z)] = in;
-                            }
-                        }
-                    }
-                } else if (options.sign == MeshSign::WindingNumber) {
-                    for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
-                        if (dist2[n] < band2) {
-                            const Vec3d xyz(leafOrigin + LeafT::offsetToLocalCoord(n));
-                            inside[n] = std::abs(winding->evaluate(xyz)) > 0.5;
-                        }
+                // Signs of every voxel of the leaf, from the crossing counts below them and,
+                // where the hole patches may matter, their winding number.
+                if (isSigned) {
+                    counts->template leafCounts<LeafT>(b, leafOrigin, below.data());
+                    if (holes) {
+                        signWithHoles(leafOrigin, below, inside, local);
+                    } else {
+                        for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+                            inside[n] = fromCount(below[n]);
                     }
                 }
 
                 auto leaf = std::make_unique<LeafT>(leafOrigin, outsideValue, false);
                 bool active = false;
                 for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
-                    if (!(dist2[n] < band2))
-                        continue;
-                    const double d = std::sqrt(dist2[n]);
+                    const double d = dist2[n] < band2 ? std::sqrt(dist2[n]) : band;
                     if (inside[n]) {
                         if (d < inBand) {
                             leaf->setValueOn(n, ValueT(-d * voxelSize));
@@ -541,24 +825,57 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
 
     if (!isSigned)
         return;
-    signedFloodFillWithValues(tree, outsideValue, insideValue, threaded);
-    if (winding) {
-        // A flood fill leaks through holes, so every inactive value, voxel or tile, takes the
-        // sign of the winding number at its centre instead.
-        std::vector<Vec3d> centers;
-        for (auto it = tree.cbeginValueOff(); it; ++it) {
-            CoordBBox box;
-            it.getBoundingBox(box);
-            centers.push_back(Vec3d(box.min()) + 0.5 * double(box.extents()[0] - 1));
+    // The leaves are signed voxel by voxel; the tiles take their signs from them (hierarchical
+    // flood fill), which is exact where the surface closes...
+    signedFloodFillImpl<1>(tree, outsideValue, insideValue, threaded);
+    if (rule != SignRule::WindingNumber)
+        return;
+    // ... but leaks through holes, so with holes every inactive tile takes the sign at its
+    // centre instead. Outside the box of the points (which holds the patches too) every count
+    // is 0.
+    Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const Vec3d& p : points) {
+        lo = Vec3d::minComponent(lo, p);
+        hi = Vec3d::maxComponent(hi, p);
+    }
+    const auto tileValue = [&](const Coord& min, Int32 dim, WindingNumberTree::Local& local) {
+        const Vec3d c = Vec3d(min) + 0.5 * double(dim - 1);
+        const bool inBox = c[0] >= lo[0] && c[0] <= hi[0] && c[1] >= lo[1] && c[1] <= hi[1] &&
+                           c[2] >= lo[2] && c[2] <= hi[2];
+        const int32_t k =
+            inBox ? counts->countAt(Int32(std::floor(c[0])), Int32(std::floor(c[1])), c[2]) : 0;
+        bool in = k != 0;
+        if (!holes->isBelow(c, 0.0, 0.5)) {
+            holes->gather(c, 0.0, local);
+            in = std::abs(double(k) + holes->evaluate(c, local)) > 0.5;
         }
-        std::vector<uint8_t> in(centers.size());
-        util::parallelFor(
-            centers.size(),
-            [&](size_t n) { in[n] = std::abs(winding->evaluate(centers[n])) > 0.5; }, threaded,
-            256);
-        size_t n = 0;
-        for (auto it = tree.beginValueOff(); it; ++it)
-            it.setValue(in[n++] ? insideValue : outsideValue);
+        return in ? insideValue : outsideValue;
+    };
+    const auto signTiles = [&](auto& node) {
+        using NodeT = std::remove_cvref_t<decltype(node)>;
+        WindingNumberTree::Local local;
+        for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
+            if (!node.getChildMask().isOn(n) && !node.getValueMask().isOn(n)) {
+                node.setTileValueOnly(n, tileValue(node.offsetToGlobalCoord(n),
+                                                   Int32(NodeT::ChildNodeType::DIM), local));
+            }
+        }
+    };
+    using TopT = typename TreeT::TopNodeType;
+    {
+        const NodeLists<TreeT> lists(tree, 1);
+        floodFillLevels<1, TopT::LEVEL>(lists, signTiles, threaded);
+    }
+    TopT& top = tree.topNode();
+    if constexpr (tree::IS_ROOT_NODE<TopT>) {
+        WindingNumberTree::Local local;
+        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
+            auto& entry = top.entry(c);
+            if (!entry.child && !entry.active)
+                entry.tile = tileValue(top.key(c), Int32(TopT::ChildNodeType::DIM), local);
+        }
+    } else {
+        signTiles(top);
     }
 }
 
@@ -571,7 +888,7 @@ requires std::is_floating_point_v<typename GridT::ValueType>
 typename GridT::Ptr meshToVolume(const math::Transform& xform, const std::vector<Vec3s>& points,
                                  const std::vector<Vec3I>& triangles,
                                  const std::vector<Vec4I>& quads,
-                                 const MeshToVolumeOptions& options) {
+                                 const MeshToVolumeOptions& options, MeshToVolumeReport* report) {
     using ValueT = typename GridT::ValueType;
     const char* who = "meshToVolume";
     if (!xform.isLinear() || !xform.hasUniformScale())
@@ -583,6 +900,8 @@ typename GridT::Ptr meshToVolume(const math::Transform& xform, const std::vector
     }
     if (points.size() >= size_t(0xFFFFFFFFu))
         throw ValueError(std::string(who) + ": too many points");
+    if (triangles.size() + 2 * quads.size() >= size_t(0x7FFFFFFFu))
+        throw ValueError(std::string(who) + ": too many triangles");
 
     // Triangles, with each quad split along its (0, 2) diagonal.
     std::vector<Vec3I> tris;
@@ -617,12 +936,41 @@ typename GridT::Ptr meshToVolume(const math::Transform& xform, const std::vector
         }
     }
 
-    const bool isSigned = options.sign != MeshSign::Unsigned;
+    // The sign rule, from the mesh's edges: closed meshes count crossings, meshes with holes
+    // add the winding number of the patches that close them.
+    MeshToVolumeReport found;
+    found.sign = options.sign;
+    detail::MeshSigning signing;
+    if (options.sign != MeshSign::Unsigned) {
+        // WindingNumber keeps the faces as given; the other modes orient them.
+        detail::MeshTopology topology(indexPoints, tris, options.sign != MeshSign::WindingNumber,
+                                      options.threaded);
+        const detail::MeshEdgeCounts& c = topology.counts();
+        found.mergedPoints = c.mergedPoints;
+        found.boundaryEdges = c.boundaryEdges;
+        found.nonManifoldEdges = c.nonManifoldEdges;
+        found.misorientedEdges = c.misorientedEdges;
+        found.flippedFaces = c.flippedFaces;
+        found.holes = c.holes;
+        if (options.sign == MeshSign::Auto)
+            found.sign = topology.closed() ? MeshSign::FloodFill : MeshSign::WindingNumber;
+        if (topology.closed()) {
+            signing.rule = detail::SignRule::NonZero;
+        } else if (found.sign == MeshSign::FloodFill) {
+            signing.rule = detail::SignRule::Parity;
+        } else {
+            signing.rule = detail::SignRule::WindingNumber;
+            signing.patches = topology.patches();
+        }
+    }
+    if (report)
+        *report = found;
+
     auto grid = GridT::create(ValueT(double(options.exteriorBandWidth) * voxelSize));
     grid->setTransform(xform.copy());
-    grid->setGridClass(isSigned ? GRID_LEVEL_SET : GRID_UNKNOWN);
+    grid->setGridClass(signing.rule != detail::SignRule::None ? GRID_LEVEL_SET : GRID_UNKNOWN);
     detail::MeshToVolumeBuilder<typename GridT::TreeType>::build(grid->tree(), indexPoints, tris,
-                                                                 voxelSize, options);
+                                                                 signing, voxelSize, options);
     return grid;
 }
 

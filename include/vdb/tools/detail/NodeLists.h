@@ -34,7 +34,8 @@ namespace vdb::tools::detail {
 
 /// The nodes of levels [minLevel, TOP) of one tree, in arrays per level (level 0 holds the
 /// leaves). Within a level the order is the order of the parents' tables, so it depends only
-/// on the tree, never on the thread count.
+/// on the tree, never on the thread count. `TreeT` may be const: the arrays then hold const
+/// nodes.
 ///
 /// The arrays are a snapshot: a node freed after construction leaves a dangling pointer in its
 /// level's array, so a bottom-up pass must not revisit a level once the level above it has
@@ -43,10 +44,11 @@ namespace vdb::tools::detail {
 template <typename TreeT>
 class NodeLists {
 public:
-    using TopT = typename TreeT::TopNodeType;
+    using TopT = typename std::remove_const_t<TreeT>::TopNodeType;
     static constexpr Index TOP = TopT::LEVEL;
     template <Index L>
-    using NodeT = tree::NodeAtLevelT<TopT, L>;
+    using NodeT = std::conditional_t<std::is_const_v<TreeT>, const tree::NodeAtLevelT<TopT, L>,
+                                     tree::NodeAtLevelT<TopT, L>>;
 
     /// Collects every node of the levels minLevel to TOP - 1. O(number of those nodes), plus
     /// one scan of the top node's child mask.
@@ -77,7 +79,7 @@ private:
     void collect(TreeT& tree, Index minLevel) {
         auto& list = std::get<L>(mLists);
         if constexpr (L + 1 == TOP) {
-            TopT& top = tree.topNode();
+            auto& top = tree.topNode();
             if constexpr (tree::IS_ROOT_NODE<TopT>) {
                 list.reserve(top.entryCount());
                 for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
