@@ -12,13 +12,18 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <set>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace vdb::app {
 
@@ -76,16 +81,103 @@ void Context::apply() {
         sMaxSteps = maxSteps;
 }
 
+namespace {
+
+/// The memory this process can get from the system, and what sets that limit: the smallest of
+/// the memory available on the machine (MemAvailable, else the physical memory), the
+/// address-space and data-segment limits (ulimit -v, -d), and the memory limit of its cgroup
+/// (v2 or v1).
+std::pair<double, std::string> systemMemoryLimit() {
+    double limit = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                   static_cast<double>(::sysconf(_SC_PAGESIZE));
+    std::string why = "the physical memory of this machine";
+    const auto lower = [&](double bytes, const char* reason) {
+        if (bytes > 0 && (limit <= 0 || bytes < limit)) {
+            limit = bytes;
+            why = reason;
+        }
+    };
+    const auto readNumber = [](const std::string& path, const char* key) {
+        std::FILE* f = std::fopen(path.c_str(), "r");
+        if (!f)
+            return -1.0;
+        char line[256];
+        double value = -1.0;
+        while (std::fgets(line, sizeof line, f)) {
+            const size_t n = std::strlen(key);
+            if (std::strncmp(line, key, n) == 0) {
+                char* end = nullptr;
+                const double v = std::strtod(line + n, &end);
+                if (end != line + n)
+                    value = v;
+                break;
+            }
+        }
+        std::fclose(f);
+        return value;
+    };
+    lower(readNumber("/proc/meminfo", "MemAvailable:") * 1024.0,
+          "the memory available on this machine now");
+    for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+        rlimit rl{};
+        if (::getrlimit(resource, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
+            lower(static_cast<double>(rl.rlim_cur), resource == RLIMIT_AS
+                                                        ? "the address-space limit (ulimit -v)"
+                                                        : "the data-segment limit (ulimit -d)");
+    }
+    // This process's cgroup: "0::/path" (v2) or "N:memory:/path" (v1).
+    std::FILE* f = std::fopen("/proc/self/cgroup", "r");
+    if (f) {
+        char line[512];
+        while (std::fgets(line, sizeof line, f)) {
+            std::string entry(line);
+            if (!entry.empty() && entry.back() == '\n')
+                entry.pop_back();
+            const size_t colon = entry.find(':'), colon2 = entry.find(':', colon + 1);
+            if (colon == std::string::npos || colon2 == std::string::npos)
+                continue;
+            const std::string controllers = entry.substr(colon + 1, colon2 - colon - 1);
+            const std::string path = entry.substr(colon2 + 1);
+            if (controllers.empty())
+                lower(readNumber("/sys/fs/cgroup" + path + "/memory.max", ""),
+                      "the memory limit of this process's cgroup");
+            else if (controllers == "memory")
+                lower(readNumber("/sys/fs/cgroup/memory" + path + "/memory.limit_in_bytes", ""),
+                      "the memory limit of this process's cgroup");
+        }
+        std::fclose(f);
+    }
+    return {limit, why};
+}
+
+}  // namespace
+
 double memoryLimit() {
-    return sMaxMemory;
+    const double system = systemMemoryLimit().first;
+    return system > 0 ? std::min(sMaxMemory, system) : sMaxMemory;
 }
 
 void checkMemoryEstimate(double bytes, const std::string& what) {
-    if (bytes <= sMaxMemory)
+    const auto [system, why] = systemMemoryLimit();
+    const bool bySystem = system > 0 && system <= sMaxMemory;
+    const double limit = bySystem ? system : sMaxMemory;
+    if (bytes <= limit)
         return;
-    throw UsageError(what + " would need about " + bytesText(bytes) +
-                     " of memory, over the limit of " + bytesText(sMaxMemory) +
-                     " (raise it with --max-memory SIZE or VDB_MAX_MEMORY)");
+    // "5.37 GB (5,368,709,120 bytes[, note])"
+    const auto amount = [](double b, const std::string& note) {
+        std::vector<std::string> parts;
+        if (b < 1e18)
+            parts.push_back(withCommas(uint64_t(b)) + " bytes");
+        if (!note.empty())
+            parts.push_back(note);
+        std::string text = bytesText(b);
+        for (size_t i = 0; i < parts.size(); ++i)
+            text += (i == 0 ? " (" : ", ") + parts[i];
+        return parts.empty() ? text : text + ")";
+    };
+    throw UsageError(
+        what + " would need about " + amount(bytes, "") + " of memory, over the limit of " +
+        amount(limit, bySystem ? why : "raise it with --max-memory SIZE or VDB_MAX_MEMORY"));
 }
 
 double levelSetBytes(double areaVoxels, double halfWidth) {

@@ -71,11 +71,13 @@ CLI::Validator finiteRange(double lo, double hi);
 /// Adds --max-steps to a command whose work is a number of steps taken from its arguments.
 void addStepLimitOption(CLI::App& cmd, Context& ctx);
 
-/// The memory an operation may use without --max-memory (2 GB, or VDB_MAX_MEMORY).
+/// The memory an operation may use: --max-memory (default 2 GB, or VDB_MAX_MEMORY), or less
+/// where the system gives less (the memory available now, ulimit -v and -d, the cgroup's
+/// limit).
 double memoryLimit();
 /// Throws UsageError when an operation estimated to need `bytes` of memory (any finite or
-/// infinite estimate) is over the limit, naming `what`, the estimate with its unit, the limit
-/// and how to raise it.
+/// infinite estimate) is over memoryLimit(), naming `what`, the estimate with its unit and in
+/// bytes, the limit, and how to raise it or what sets it.
 void checkMemoryEstimate(double bytes, const std::string& what);
 /// The memory of a float narrow-band level set whose surface has `areaVoxels` square voxels,
 /// `halfWidth` voxels on each side: the leaves that cover the band, at about 2.2 kB each.

@@ -286,8 +286,11 @@ TEST_F(CliSafety, FailedCommandsLeaveTheExistingOutputUntouched) {
     failsWith({"floodfill", path("fog.vdb"), "-o", out}, 2, {"no level set"});
     failsWith({"csg", "union", path("s.vdb"), path("fine.vdb"), "-o", out}, 2, {"transform"});
     failsWith({"advect", path("fog.vdb"), "-o", out}, 2, {"level set"});
-    failsWith({"render", path("fog.vdb"), "-o", path("keep.vdb"), "--grid", "nope"}, 2, {"nope"});
     EXPECT_EQ(test::fileBytes(path("keep.vdb")), keep);
+    // A picture that cannot be made leaves the old picture.
+    fs::copy_file(path("keep.vdb"), path("keep.png"));
+    failsWith({"render", path("fog.vdb"), "-o", path("keep.png"), "--grid", "nope"}, 2, {"nope"});
+    EXPECT_EQ(test::fileBytes(path("keep.png")), keep);
 }
 
 // ---- Work refused before it starts
