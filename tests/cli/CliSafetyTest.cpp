@@ -61,13 +61,7 @@ protected:
         return r;
     }
     /// The names in the test folder other than the captured output files.
-    std::vector<std::string> listing() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(mDir))
-            names.push_back(e.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
+    std::vector<std::string> listing() const { return test::folderNames(mDir); }
     /// A small sphere file written by the library; returns its grid.
     FloatGrid::Ptr writeSphere(const std::string& name, float radius = 1.0f) {
         auto grid = tools::createLevelSetSphere<FloatGrid>(radius, Vec3f(0.0f), 0.1f, 3.0f);

@@ -53,9 +53,7 @@ protected:
     /// Runs a command that must fail with `status`, one error line naming `needle`, and no
     /// new file in the test folder.
     void fails(const std::vector<std::string>& args, int status, const std::string& needle) {
-        std::vector<std::string> before;
-        for (const auto& e : fs::directory_iterator(mDir))
-            before.push_back(e.path().filename().string());
+        const std::vector<std::string> before = folderNames(mDir);
         const Result r = run(args);
         EXPECT_EQ(r.status, status) << "stderr: " << r.err;
         EXPECT_NE(r.err.find("error:"), std::string::npos) << r.err;
@@ -63,12 +61,7 @@ protected:
             << "expected '" << needle << "' in: " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1)
             << "one line expected: " << r.err;
-        std::vector<std::string> after;
-        for (const auto& e : fs::directory_iterator(mDir))
-            after.push_back(e.path().filename().string());
-        std::sort(before.begin(), before.end());
-        std::sort(after.begin(), after.end());
-        EXPECT_EQ(before, after) << "the failed command left files behind";
+        EXPECT_EQ(before, folderNames(mDir)) << "the failed command left files behind";
     }
 
     fs::path mDir;

@@ -36,6 +36,15 @@ inline std::string tempPath(const std::string& prefix, const std::string& name) 
     return (dir / name).string();
 }
 
+/// The names of the entries of folder `dir`, sorted.
+inline std::vector<std::string> folderNames(const std::filesystem::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
 inline std::vector<uint8_t> fileBytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});

@@ -37,13 +37,7 @@ protected:
         fs::remove_all(mDir, ec);
     }
     std::string path(const std::string& name) const { return (mDir / name).string(); }
-    std::vector<std::string> listing() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(mDir))
-            names.push_back(e.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
+    std::vector<std::string> listing() const { return test::folderNames(mDir); }
     void put(const std::string& name, const std::string& text) const {
         std::ofstream(path(name), std::ios::binary) << text;
     }
