@@ -18,5 +18,8 @@ void addRenderCommand(CLI::App& app, Context& ctx);
 void addMeshCommand(CLI::App& app, Context& ctx);
 void addSpheresCommand(CLI::App& app, Context& ctx);
 void addDemoCommand(CLI::App& app, Context& ctx);
+void addFilterCommands(CLI::App& app, Context& ctx);    // filter, fog
+void addMeasureCommands(CLI::App& app, Context& ctx);   // measure, stats
+void addOperatorCommands(CLI::App& app, Context& ctx);  // gradient, laplacian, divergence, curl
 
 }  // namespace vdb::app

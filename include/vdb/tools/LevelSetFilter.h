@@ -13,8 +13,9 @@
 ///   dt = dx^2 / 3 (spheres shrink as r^2 = r0^2 - 2t); laplacian(): one step of the heat
 ///   equation, phi += dt lap(phi) with dt = dx^2 / 6 (the same flow on a true distance field,
 ///   and cheaper).
-/// - offset(d): moves the surface by d world units along its normal (outwards for d > 0), in
-///   steps of at most half a voxel, each followed by a rebuild.
+/// - offset(d): adds d (world units) to every active value, in steps of at most half a voxel,
+///   each followed by a rebuild: the surface moves d along its normal, inwards for d > 0
+///   (OpenVDB's sign: a positive offset erodes, a negative one dilates).
 /// - An optional alpha mask (a scalar grid, see Filter.h) blends old and new values as
 ///   (1 - alpha) old + alpha new.
 /// - Widths run from 1 to FILTER_MAX_WIDTH (MEDIAN_FILTER_MAX_WIDTH for the median); anything
@@ -27,7 +28,7 @@
 /// @code
 /// vdb::tools::LevelSetFilter<vdb::FloatGrid> filter(*sdf);
 /// filter.meanCurvature();       // one step of curvature flow
-/// filter.offset(0.1f);          // dilate the surface by 0.1 world units
+/// filter.offset(-0.1f);         // dilate the surface by 0.1 world units
 /// filter.gaussian(1);           // smooth
 /// @endcode
 
@@ -80,7 +81,8 @@ public:
     /// Four box filters of edge 2 width + 1, each followed by a rebuild.
     /// @throw ValueError unless 1 <= width <= FILTER_MAX_WIDTH.
     void gaussian(int width = 1, const MaskT* mask = nullptr);
-    /// Moves the surface by `offset` world units along its normal (outwards when positive).
+    /// Adds `offset` (world units) to the values: the surface moves inwards by `offset` (outwards
+    /// when negative).
     /// @throw ValueError for a non-finite offset.
     void offset(ValueType offset, const MaskT* mask = nullptr);
     /// A median filter over boxes of edge 2 width + 1, then a rebuild.
