@@ -2,7 +2,7 @@
 /// @file
 /// Measures of the surface of a narrow-band level set, with OpenVDB 10's names and meanings:
 /// area, enclosed volume, total and average mean and Gaussian curvature, Euler characteristic
-/// and genus (paper section 4.6 measures a level set the same way).
+/// and genus.
 ///
 /// Each measure is an integral over the surface written as a volume integral with a smeared
 /// Dirac delta of the distance, D(x) = (1 + cos(pi x / e)) / (2e) for |x| < e, e = 1.5 voxels:
