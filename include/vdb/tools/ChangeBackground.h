@@ -30,7 +30,10 @@
 #include <vdb/tree/LeafManager.h>
 #include <vdb/tree/Tree.h>
 
+#include <bit>
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 #include <type_traits>
 
 namespace vdb::tools {
@@ -73,12 +76,50 @@ void changeLevelSetBackground(tree::LeafManager<TreeT>& leaves,
 
 namespace detail {
 
+/// Calls `f(value, active)` on every tile of `tree`, active or not (the tiles of every internal
+/// node, the top node's included); `f` may change both. The nodes of one level run in
+/// parallel.
+template <typename TreeT, typename FuncT>
+void forEachTile(TreeT& tree, const FuncT& f, bool threaded) {
+    using TopT = typename TreeT::TopNodeType;
+    using ValueT = typename TreeT::ValueType;
+    const auto changeTiles = [&f](auto& node) {
+        const auto& children = node.getChildMask();
+        for (Index w = 0; w < children.WORD_COUNT; ++w) {
+            for (uint64_t bits = ~children.getWord(w); bits; bits &= bits - 1) {
+                const Index n = (w << 6) + Index(std::countr_zero(bits));
+                ValueT value = node.getTileValue(n);
+                bool active = node.isTileOn(n);
+                const bool wasActive = active;
+                f(value, active);
+                if (active != wasActive)
+                    node.setTile(n, value, active);
+                else
+                    node.setTileValueOnly(n, value);
+            }
+        }
+    };
+    const NodeLists<TreeT> nodes(tree, 1);
+    [&]<Index... L>(std::integer_sequence<Index, L...>) {
+        (nodes.template foreach<L + 1>(changeTiles, threaded), ...);
+    }(std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
+    TopT& top = tree.topNode();
+    if constexpr (tree::IS_ROOT_NODE<TopT>) {
+        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
+            auto& e = top.entry(c);
+            if (!e.child)
+                f(e.tile, e.active);
+        }
+    } else {
+        changeTiles(top);
+    }
+}
+
 /// Calls `f(value)` on every inactive value of `tree`: the inactive voxels of every leaf and
 /// the inactive tiles of every node, the top node's included. `f` returns the new value.
 template <typename TreeT, typename FuncT>
 void forEachInactiveValue(TreeT& tree, const FuncT& f, bool threaded, size_t grainSize) {
-    using TopT = typename TreeT::TopNodeType;
-    // Leaves.
+    using ValueT = typename TreeT::ValueType;
     tree::LeafManager<TreeT> leaves(tree);
     leaves.foreach (
         [&](auto& leaf, size_t) {
@@ -87,33 +128,13 @@ void forEachInactiveValue(TreeT& tree, const FuncT& f, bool threaded, size_t gra
                 values[it.pos()] = f(values[it.pos()]);
         },
         threaded, grainSize);
-    // Tiles of the internal nodes below the top, one level at a time.
-    const auto changeTiles = [&f](auto& node) {
-        const auto& children = node.getChildMask();
-        const auto& states = node.getValueMask();
-        for (Index w = 0; w < children.WORD_COUNT; ++w) {
-            for (uint64_t bits = ~(children.getWord(w) | states.getWord(w)); bits;
-                 bits &= bits - 1) {
-                const Index n = (w << 6) + Index(std::countr_zero(bits));
-                node.setTileValueOnly(n, f(node.getTileValue(n)));
-            }
-        }
-    };
-    const NodeLists<TreeT> nodes(tree, 1);
-    [&]<Index... L>(std::integer_sequence<Index, L...>) {
-        (nodes.template foreach<L + 1>(changeTiles, threaded), ...);
-    }(std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
-    // The top node's tiles.
-    TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            auto& e = top.entry(c);
-            if (!e.child && !e.active)
-                e.tile = f(e.tile);
-        }
-    } else {
-        changeTiles(top);
-    }
+    forEachTile(
+        tree,
+        [&f](ValueT& value, bool active) {
+            if (!active)
+                value = f(value);
+        },
+        threaded);
 }
 
 }  // namespace detail

@@ -9,7 +9,9 @@
 #include <vdb/Grid.h>
 #include <vdb/Types.h>
 #include <vdb/math/Math.h>
+#include <vdb/tools/ChangeBackground.h>
 #include <vdb/tools/Morphology.h>
+#include <vdb/tools/Prune.h>
 #include <vdb/tools/SignedFloodFill.h>
 #include <vdb/tools/Statistics.h>
 #include <vdb/tools/detail/LeafBuild.h>
@@ -182,35 +184,40 @@ void sdfToFogVolume(GridT& grid, typename GridT::ValueType cutoff) {
     static_assert(std::is_floating_point_v<ValueT>, "sdfToFogVolume needs a floating-point grid");
     if (!(cutoff == cutoff))
         throw ValueError("sdfToFogVolume: the cutoff distance is not a number");
-    const TreeT& in = grid.tree();
+    TreeT& tree = grid.tree();
     // The ramp ends at the cutoff, or at the deepest value when the grid holds none deeper.
-    cutoff = std::max(deepestValue(in, true), ValueT(-std::abs(cutoff)));
-    auto out = std::make_shared<TreeT>(ValueT(0));
-    if (cutoff < ValueT(0)) {
+    cutoff = std::max(deepestValue(tree, true), ValueT(-std::abs(cutoff)));
+    if (!(cutoff < ValueT(0))) {
+        grid.setTree(std::make_shared<TreeT>(ValueT(0)));
+    } else {
+        // In place, as the values and states of the same nodes: leaves first, then tiles.
         const ValueT weight = ValueT(1) / cutoff;
-        auto leaves = mapLeaves<LeafT>(
-            in,
-            [&](const LeafT& leaf) -> std::unique_ptr<LeafT> {
-                auto fog = std::make_unique<LeafT>(leaf.origin(), ValueT(0), false);
-                const ValueT* src = leaf.buffer(0).data();
-                ValueT* dst = fog->buffer(0).data();
+        tree::LeafManager<TreeT> leaves(tree);
+        leaves.foreach (
+            [weight](LeafT& leaf, size_t) {
+                ValueT* v = leaf.buffer(0).data();
+                typename LeafT::MaskType on;
                 for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
-                    const ValueT v = src[n] > ValueT(0) ? ValueT(0) : std::min(src[n] * weight, ValueT(1));
-                    if (v > ValueT(0))
-                        fog->setValueOn(n, v);
-                    else
-                        dst[n] = ValueT(0);
+                    const ValueT fog =
+                        v[n] > ValueT(0) ? ValueT(0) : std::min(v[n] * weight, ValueT(1));
+                    v[n] = fog;
+                    if (fog > ValueT(0))
+                        on.setOn(n);
                 }
-                return fog->isEmpty() ? nullptr : std::move(fog);
+                leaf.setValueMask(on);
             },
             true);
-        linkLeaves(*out, leaves, true);
-        visitTiles<ValueFilter::All>(in.topNode(), [&](const CoordBBox& box, const ValueT& v) {
-            if (v < ValueT(0))
-                out->fill(box, ValueT(1), true);
-        });
+        forEachTile(
+            tree,
+            [](ValueT& value, bool& active) {
+                active = value < ValueT(0);
+                value = active ? ValueT(1) : ValueT(0);
+            },
+            true);
+        tree.setBackground(ValueT(0));
+        // Leaves wholly outside the surface are now inactive zeros: the background.
+        pruneInactive(tree);
     }
-    grid.setTree(out);
     grid.setGridClass(GRID_FOG_VOLUME);
 }
 
