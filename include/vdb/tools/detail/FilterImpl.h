@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstdint>
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -270,12 +271,21 @@ void offsetPass(tree::LeafManager<TreeT>& leaves, const typename TreeT::ValueTyp
                 if (alphaMask)
                     alphaMask->cell(leaf.origin(), LeafT::LOG2DIM, alpha);
                 auto* values = leaf.buffer(0).data();
-                for (auto it = leaf.cbeginValueOn(); it; ++it) {
-                    const Index n = it.pos();
-                    if (!alphaMask)
-                        values[n] = values[n] + offset;
-                    else if (alpha[n] > 0.0f)
-                        values[n] = values[n] + scaledBy(offset, alpha[n]);
+                const auto* words = leaf.getValueMask().words();
+                for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w) {
+                    auto* row = values + (w << 6);
+                    if (!alphaMask && words[w] == ~uint64_t(0)) {
+                        for (Index n = 0; n < 64; ++n)  // a full word: a loop that vectorises
+                            row[n] = row[n] + offset;
+                        continue;
+                    }
+                    for (uint64_t bits = words[w]; bits; bits &= bits - 1) {
+                        const Index n = (w << 6) + Index(std::countr_zero(bits));
+                        if (!alphaMask)
+                            values[n] = values[n] + offset;
+                        else if (alpha[n] > 0.0f)
+                            values[n] = values[n] + scaledBy(offset, alpha[n]);
+                    }
                 }
             }
         },
