@@ -118,9 +118,7 @@ public:
         const auto* s = getMeta<std::string>(META_VECTOR_TYPE);
         return s ? stringToVecType(*s) : VEC_INVARIANT;
     }
-    void setVectorType(VecType t) {
-        insertMeta(META_VECTOR_TYPE, std::string(vecTypeToString(t)));
-    }
+    void setVectorType(VecType t) { insertMeta(META_VECTOR_TYPE, std::string(vecTypeToString(t))); }
     void clearVectorType() { removeMeta(META_VECTOR_TYPE); }
 
     /// Whether files store this grid's floating-point values as 16-bit halves.

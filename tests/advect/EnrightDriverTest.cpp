@@ -25,7 +25,8 @@ TEST(EnrightTest, LevelSetVolumeMeasuresSpheres) {
         auto grid = tools::createEnrightSphere<FloatGrid>(res, 5.0f);
         const double exact = 4.0 / 3.0 * std::numbers::pi * std::pow(0.15, 3);
         // The smearing bias falls with the square of the voxel size over the radius.
-        EXPECT_NEAR(tools::smearedHeavisideVolume(*grid), exact, (res == 64 ? 0.015 : 0.005) * exact)
+        EXPECT_NEAR(tools::smearedHeavisideVolume(*grid), exact,
+                    (res == 64 ? 0.015 : 0.005) * exact)
             << res;
     }
     // A sphere big enough for inside tiles above the leaves.
@@ -33,7 +34,8 @@ TEST(EnrightTest, LevelSetVolumeMeasuresSpheres) {
     EXPECT_GT(big->tree().leafCount(), 0u);
     const double exact = 4.0 / 3.0 * std::numbers::pi;
     EXPECT_NEAR(tools::smearedHeavisideVolume(*big), exact, 1e-3 * exact);
-    EXPECT_EQ(tools::smearedHeavisideVolume(*big, 1.5, false), tools::smearedHeavisideVolume(*big, 1.5, true));
+    EXPECT_EQ(tools::smearedHeavisideVolume(*big, 1.5, false),
+              tools::smearedHeavisideVolume(*big, 1.5, true));
 }
 
 TEST(EnrightTest, ShortRunReportsEveryFrame) {

@@ -546,8 +546,7 @@ TEST_F(Cli, ToolboxCommandsRefuseBadInputs) {
     io::File(path("vel.vdb")).write(GridPtrVec{vectors});
     const std::string out = path("out.vdb");
     fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--width", "0"}, 2, "--width");
-    fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--width", "1000000"}, 2,
-          "--width");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--width", "1000000"}, 2, "--width");
     fails({"filter", path("s.vdb"), "-o", out, "--op", "median", "--width", "100"}, 2, "median");
     fails({"filter", path("s.vdb"), "-o", out, "--op", "offset"}, 2, "--amount");
     fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--amount", "1"}, 2, "--amount");
@@ -598,9 +597,9 @@ TEST_F(Cli, BadGeometryInputsGiveOneErrorLineAndNoOutput) {
 
 TEST_F(Cli, EveryCommandHasHelpWithExamples) {
     for (const std::string cmd :
-         {"info", "sphere", "spheres", "mesh", "morph", "floodfill", "prune", "csg", "convert",
-          "advect", "enright", "render", "demo", "filter", "fog", "measure", "stats", "gradient",
-          "laplacian", "divergence", "curl"}) {
+         {"info", "sphere",  "spheres", "mesh",     "morph",     "floodfill",  "prune",
+          "csg",  "convert", "advect",  "enright",  "render",    "demo",       "filter",
+          "fog",  "measure", "stats",   "gradient", "laplacian", "divergence", "curl"}) {
         const Result r = ok({cmd, "--help"});
         EXPECT_NE(r.out.find("Example"), std::string::npos) << cmd;
         EXPECT_NE(r.out.find("--threads"), std::string::npos) << cmd;

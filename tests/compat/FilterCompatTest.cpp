@@ -45,8 +45,10 @@ TEST(FilterCompat, DensityFiltersMatchOpenVdb) {
             theirs;
     };
     const Case cases[] = {
-        {"mean", [](auto& f, auto m) { f.mean(1, 2, m); }, [](auto& f, auto m) { f.mean(1, 2, m); }},
-        {"mean3", [](auto& f, auto m) { f.mean(3, 1, m); }, [](auto& f, auto m) { f.mean(3, 1, m); }},
+        {"mean", [](auto& f, auto m) { f.mean(1, 2, m); },
+         [](auto& f, auto m) { f.mean(1, 2, m); }},
+        {"mean3", [](auto& f, auto m) { f.mean(3, 1, m); },
+         [](auto& f, auto m) { f.mean(3, 1, m); }},
         {"gaussian", [](auto& f, auto m) { f.gaussian(2, 1, m); },
          [](auto& f, auto m) { f.gaussian(2, 1, m); }},
         {"median", [](auto& f, auto m) { f.median(1, 2, m); },
@@ -73,7 +75,9 @@ TEST(FilterCompat, DensityFiltersMatchOpenVdb) {
 TEST(FilterCompat, VectorMeanMatchesOpenVdb) {
     auto p = test::sampledPair<test::Vec3SPair>(
         CoordBBox(Coord(-10), Coord(9)), Vec3d(0.1), Vec3d(0.0),
-        [](const Vec3d& q) { return Vec3s(float(q[1]), float(q[0] * q[2]), float(std::cos(5 * q[0]))); },
+        [](const Vec3d& q) {
+            return Vec3s(float(q[1]), float(q[0] * q[2]), float(std::cos(5 * q[0])));
+        },
         Vec3s(0.0f));
     tools::Filter<Vec3SGrid> ours(*p.ours);
     openvdb::tools::Filter<openvdb::Vec3SGrid> theirs(*p.theirs);

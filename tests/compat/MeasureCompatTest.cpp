@@ -16,11 +16,11 @@
 
 #include "ToolboxCompat.h"
 #include <gtest/gtest.h>
+#include <openvdb/math/Stats.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/Count.h>
 #include <openvdb/tools/LevelSetMeasure.h>
-#include <openvdb/math/Stats.h>
 
 #include <cmath>
 #include <utility>
@@ -44,8 +44,7 @@ TEST(MeasureCompat, SphereMeasuresMatchOpenVdb) {
         expectRelNear(ours.volume(false), theirs.volume(false), 1e-4, "volume in voxels");
         expectRelNear(ours.totMeanCurvature(), theirs.totMeanCurvature(), 1e-4, "total H");
         expectRelNear(ours.avgMeanCurvature(), theirs.avgMeanCurvature(), 1e-4, "mean H");
-        expectRelNear(ours.totGaussianCurvature(), theirs.totGaussianCurvature(), 1e-4,
-                      "total K");
+        expectRelNear(ours.totGaussianCurvature(), theirs.totGaussianCurvature(), 1e-4, "total K");
         EXPECT_EQ(ours.eulerCharacteristic(), theirs.eulerCharacteristic());
         EXPECT_EQ(ours.genus(), theirs.genus());
         expectRelNear(tools::levelSetArea(*p.ours), openvdb::tools::levelSetArea(*p.theirs), 1e-4,

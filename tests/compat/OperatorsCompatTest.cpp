@@ -53,8 +53,8 @@ TEST(OperatorsCompat, NonUniformScaleAndTranslation) {
         0.0f);
     EXPECT_TRUE(sameActiveValues(*tools::gradient(*s.ours), *openvdb::tools::gradient(*s.theirs),
                                  1e-4, 0.05));
-    EXPECT_TRUE(sameActiveValues(*tools::laplacian(*s.ours),
-                                 *openvdb::tools::laplacian(*s.theirs), 1e-4, 0.05 * 0.05));
+    EXPECT_TRUE(sameActiveValues(*tools::laplacian(*s.ours), *openvdb::tools::laplacian(*s.theirs),
+                                 1e-4, 0.05 * 0.05));
     EXPECT_TRUE(sameActiveValues(*tools::meanCurvature(*s.ours),
                                  *openvdb::tools::meanCurvature(*s.theirs), 1e-4, 0.05));
     auto v = test::sampledPair<test::Vec3SPair>(
@@ -65,12 +65,12 @@ TEST(OperatorsCompat, NonUniformScaleAndTranslation) {
         Vec3s(0.0f));
     EXPECT_TRUE(sameActiveValues(*tools::divergence(*v.ours),
                                  *openvdb::tools::divergence(*v.theirs), 1e-4, 0.05));
-    EXPECT_TRUE(sameActiveValues(*tools::curl(*v.ours), *openvdb::tools::curl(*v.theirs), 1e-4,
-                                 0.05));
-    EXPECT_TRUE(sameActiveValues(*tools::magnitude(*v.ours),
-                                 *openvdb::tools::magnitude(*v.theirs), 1e-5));
-    EXPECT_TRUE(sameActiveValues(*tools::normalize(*v.ours),
-                                 *openvdb::tools::normalize(*v.theirs), 1e-5));
+    EXPECT_TRUE(
+        sameActiveValues(*tools::curl(*v.ours), *openvdb::tools::curl(*v.theirs), 1e-4, 0.05));
+    EXPECT_TRUE(
+        sameActiveValues(*tools::magnitude(*v.ours), *openvdb::tools::magnitude(*v.theirs), 1e-5));
+    EXPECT_TRUE(
+        sameActiveValues(*tools::normalize(*v.ours), *openvdb::tools::normalize(*v.theirs), 1e-5));
 }
 
 TEST(OperatorsCompat, StaggeredDivergenceMatchesOpenVdb) {
@@ -107,7 +107,8 @@ TEST(OperatorsCompat, MasksAndTilesMatchOpenVdb) {
         ours->tree().setValue(Coord(128, i, 2 * i), float(i));
         theirs->tree().setValue(openvdb::Coord(128, i, 2 * i), float(i));
     }
-    EXPECT_TRUE(sameActiveValues(*tools::gradient(*ours), *openvdb::tools::gradient(*theirs), 1e-6));
+    EXPECT_TRUE(
+        sameActiveValues(*tools::gradient(*ours), *openvdb::tools::gradient(*theirs), 1e-6));
     EXPECT_TRUE(
         sameActiveValues(*tools::laplacian(*ours), *openvdb::tools::laplacian(*theirs), 1e-6));
 }

@@ -126,9 +126,8 @@ template <typename OursT, typename TheirsT>
         }
     }
     if (worst > tolerance)
-        return ::testing::AssertionFailure()
-               << "values differ by " << worst << " at " << where << " (tolerance " << tolerance
-               << ")";
+        return ::testing::AssertionFailure() << "values differ by " << worst << " at " << where
+                                             << " (tolerance " << tolerance << ")";
     return ::testing::AssertionSuccess() << "largest difference " << worst;
 }
 

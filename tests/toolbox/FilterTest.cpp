@@ -16,7 +16,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <iterator>
 #include <string>
+#include <vector>
 
 namespace vdb {
 namespace {
@@ -28,15 +31,16 @@ const CoordBBox kBox(Coord(-20), Coord(19));
 
 TEST(Filter, MeanAndGaussianLeaveAConstantFieldUnchanged) {
     auto x = math::Transform::createLinearTransform(0.5);
-    auto grid = sampleField<FloatGrid>(kBox, x, [](const Vec3d&) { return 2.5f; }, 2.5f);
+    auto grid = sampleField<FloatGrid>(
+        kBox, x, [](const Vec3d&) { return 2.5f; }, 2.5f);
     tools::Filter<FloatGrid> filter(*grid);
     filter.mean(2, 2);
     filter.gaussian(1);
     forEachVoxel(kBox, [&](const Coord& ijk) {
         ASSERT_NEAR(grid->tree().getValue(ijk), 2.5f, 1e-5f) << ijk;
     });
-    auto vectors = sampleField<Vec3SGrid>(kBox, x, [](const Vec3d&) { return Vec3s(1, -2, 3); },
-                                          Vec3s(1, -2, 3));
+    auto vectors = sampleField<Vec3SGrid>(
+        kBox, x, [](const Vec3d&) { return Vec3s(1, -2, 3); }, Vec3s(1, -2, 3));
     tools::Filter<Vec3SGrid> vfilter(*vectors);
     vfilter.gaussian(1, 2);
     forEachVoxel(kBox, [&](const Coord& ijk) {
@@ -50,7 +54,8 @@ TEST(Filter, MeanAndGaussianLeaveAConstantFieldUnchanged) {
 TEST(Filter, MeanOfALinearFieldKeepsItAwayFromTheBorder) {
     // A box filter reproduces linear functions; the border sees the background.
     auto x = math::Transform::createLinearTransform(1.0);
-    auto grid = sampleField<DoubleGrid>(kBox, x, [](const Vec3d& p) { return 3 * p[0] - p[1] + 2 * p[2]; });
+    auto grid =
+        sampleField<DoubleGrid>(kBox, x, [](const Vec3d& p) { return 3 * p[0] - p[1] + 2 * p[2]; });
     tools::Filter<DoubleGrid> filter(*grid);
     filter.mean(2);
     // The weights are float, as in OpenVDB: 1/5 to within 1e-8 relative.
@@ -58,7 +63,46 @@ TEST(Filter, MeanOfALinearFieldKeepsItAwayFromTheBorder) {
         const double want = 3.0 * ijk[0] - ijk[1] + 2.0 * ijk[2];
         ASSERT_NEAR(grid->tree().getValue(ijk), want, 1e-7 * std::max(1.0, std::abs(want))) << ijk;
     });
-    EXPECT_NE(grid->tree().getValue(kBox.min()), 3.0 * kBox.min()[0] - kBox.min()[1] + 2.0 * kBox.min()[2]);
+    EXPECT_NE(grid->tree().getValue(kBox.min()),
+              3.0 * kBox.min()[0] - kBox.min()[1] + 2.0 * kBox.min()[2]);
+}
+
+TEST(Filter, IntegerMeanIsTheTruncatedFloatAverageOfEachPass) {
+    // Brute-force model: three passes along x, z, y over a dense copy with the background (0)
+    // around it; each active voxel becomes int(float(sum of 2w + 1 values) / (2w + 1)).
+    const CoordBBox box(Coord(-6), Coord(5));
+    const int w = 2, pad = 3 * w, n = 12 + 2 * pad;
+    std::vector<int> dense(size_t(n * n * n), 0);
+    const auto at = [&](const Coord& ijk) -> int& {
+        const Coord d = ijk - box.min() + Coord(pad);
+        return dense[size_t((d[0] * n + d[1]) * n + d[2])];
+    };
+    auto grid = Int32Grid::create(0);
+    forEachVoxel(box, [&](const Coord& ijk) {
+        const int h = ijk[0] * 7919 + ijk[1] * 104729 + ijk[2] * 1299709;
+        const int v = ((h % 201) + 201) % 201 - 100;  // scattered values in [-100, 100]
+        grid->tree().setValue(ijk, v);
+        at(ijk) = v;
+    });
+    const float frac = 1.0f / float(2 * w + 1);
+    for (const int axis : {0, 2, 1}) {
+        std::vector<int> next = dense;
+        forEachVoxel(box, [&](const Coord& ijk) {
+            int sum = 0;
+            for (int d = -w; d <= w; ++d) {
+                Coord q = ijk;
+                q[size_t(axis)] += d;
+                sum += at(q);
+            }
+            const Coord o = ijk - box.min() + Coord(pad);
+            next[size_t((o[0] * n + o[1]) * n + o[2])] = int(float(sum) * frac);
+        });
+        dense.swap(next);
+    }
+    tools::Filter<Int32Grid>(*grid).mean(w);
+    forEachVoxel(box,
+                 [&](const Coord& ijk) { ASSERT_EQ(grid->tree().getValue(ijk), at(ijk)) << ijk; });
+    EXPECT_EQ(grid->activeVoxelCount(), box.volume());
 }
 
 TEST(Filter, MedianRemovesSingleVoxelSpikes) {
@@ -82,7 +126,8 @@ TEST(Filter, MaskLimitsTheFilterToAlphaAboveZero) {
     auto grid = sampleField<FloatGrid>(kBox, x, [](const Vec3d& p) { return float(p[0] * p[0]); });
     auto before = grid->deepCopy();
     // Alpha 1 for z >= 0, 0 below; a mask on another transform is sampled in world space.
-    auto mask = sampleField<FloatGrid>(kBox, x, [](const Vec3d& p) { return p[2] >= 0 ? 1.0f : 0.0f; });
+    auto mask =
+        sampleField<FloatGrid>(kBox, x, [](const Vec3d& p) { return p[2] >= 0 ? 1.0f : 0.0f; });
     tools::Filter<FloatGrid> filter(*grid);
     filter.mean(1, 1, mask.get());
     filter.offset(1.0f, mask.get());
@@ -193,6 +238,79 @@ TEST(LevelSetFilter, SmoothingKeepsASphereASphere) {
     // Every active value lies within the band.
     for (auto it = sphere->cbeginValueOn(); it; ++it)
         ASSERT_LT(std::abs(*it), sphere->background() + 1e-6f);
+}
+
+/// True when both trees have the same active voxels with the same values.
+bool sameActiveValues(const FloatGrid& a, const FloatGrid& b) {
+    if (a.activeVoxelCount() != b.activeVoxelCount())
+        return false;
+    auto acc = b.getConstAccessor();
+    for (auto it = a.cbeginValueOn(); it; ++it) {
+        if (!acc.isValueOn(it.getCoord()) || acc.getValue(it.getCoord()) != *it)
+            return false;
+    }
+    return true;
+}
+
+TEST(Filter, EveryFilterIsOffUnderAZeroMaskAndWholeUnderAOneMask) {
+    // Masks of constant alpha (empty grids whose background is the mask value): alpha 0 must
+    // leave every value as it was, alpha 1 must give the unmasked result.
+    auto zero = FloatGrid::create(0.0f), one = FloatGrid::create(1.0f);
+    auto x = math::Transform::createLinearTransform(0.5);
+    const auto input = sampleField<FloatGrid>(
+        kBox, x, [](const Vec3d& p) { return float(std::sin(p[0]) * p[1] + p[2] * p[2]); });
+    const std::function<void(tools::Filter<FloatGrid>&, const FloatGrid*)> ops[] = {
+        [](auto& f, auto m) { f.mean(2, 2, m); },
+        [](auto& f, auto m) { f.gaussian(1, 1, m); },
+        [](auto& f, auto m) { f.median(1, 2, m); },
+        [](auto& f, auto m) { f.offset(0.75f, m); },
+    };
+    for (size_t i = 0; i < std::size(ops); ++i) {
+        auto off = input->deepCopy(), on = input->deepCopy(), plain = input->deepCopy();
+        tools::Filter<FloatGrid> fOff(*off), fOn(*on), fPlain(*plain);
+        ops[i](fOff, zero.get());
+        ops[i](fOn, one.get());
+        ops[i](fPlain, nullptr);
+        EXPECT_TRUE(sameActiveValues(*off, *input)) << "filter " << i;
+        EXPECT_TRUE(sameActiveValues(*on, *plain)) << "filter " << i;
+        EXPECT_FALSE(sameActiveValues(*plain, *input)) << "filter " << i;
+    }
+}
+
+TEST(LevelSetFilter, EveryFilterIsOffUnderAZeroMaskAndWholeUnderAOneMask) {
+    // Under alpha 0 a level set filter only rebuilds the band (as LevelSetTracker::track()
+    // does, once per pass: four times for the Gaussian); under alpha 1 it is the unmasked
+    // filter.
+    auto zero = FloatGrid::create(0.0f), one = FloatGrid::create(1.0f);
+    auto input = tools::createLevelSetSphere<FloatGrid>(0.8f, Vec3f(0.02f, -0.03f, 0.01f), 0.05f);
+    input->tree().setValue(Coord(16, 0, 0), 0.0f);  // a bump, so that smoothing changes it
+    using LsFilter = tools::LevelSetFilter<FloatGrid>;
+    struct Op {
+        std::function<void(LsFilter&, const FloatGrid*)> run;
+        int passes;
+    };
+    const Op ops[] = {
+        {[](auto& f, auto m) { f.mean(1, m); }, 1},
+        {[](auto& f, auto m) { f.gaussian(1, m); }, 4},
+        {[](auto& f, auto m) { f.median(1, m); }, 1},
+        {[](auto& f, auto m) { f.meanCurvature(m); }, 1},
+        {[](auto& f, auto m) { f.laplacian(m); }, 1},
+        {[](auto& f, auto m) { f.offset(0.02f, m); }, 1},  // under half a voxel: one step
+    };
+    for (size_t i = 0; i < std::size(ops); ++i) {
+        auto tracked = input->deepCopy();
+        tools::LevelSetTracker<FloatGrid> tracker(*tracked);
+        for (int p = 0; p < ops[i].passes; ++p)
+            tracker.track();
+        auto off = input->deepCopy(), on = input->deepCopy(), plain = input->deepCopy();
+        LsFilter fOff(*off), fOn(*on), fPlain(*plain);
+        ops[i].run(fOff, zero.get());
+        ops[i].run(fOn, one.get());
+        ops[i].run(fPlain, nullptr);
+        EXPECT_TRUE(sameActiveValues(*off, *tracked)) << "filter " << i;
+        EXPECT_TRUE(sameActiveValues(*on, *plain)) << "filter " << i;
+        EXPECT_FALSE(sameActiveValues(*plain, *tracked)) << "filter " << i;
+    }
 }
 
 TEST(LevelSetFilter, MaskRestrictsTheOffsetToTheMaskedHalf) {

@@ -80,7 +80,8 @@ TEST_P(GridOperatorsTransforms, LaplacianOfQuadraticIsExact) {
     auto grid = sampleField<DoubleGrid>(kBox, x, quadratic);
     auto lap = tools::laplacian(*grid);
     auto acc = lap->getConstAccessor();
-    forEachVoxel(kInterior, [&](const Coord& ijk) { ASSERT_NEAR(acc.getValue(ijk), 4.0, 1e-8) << ijk; });
+    forEachVoxel(kInterior,
+                 [&](const Coord& ijk) { ASSERT_NEAR(acc.getValue(ijk), 4.0, 1e-8) << ijk; });
 }
 
 TEST_P(GridOperatorsTransforms, DivergenceAndCurlOfLinearFieldsAreExact) {
@@ -106,7 +107,8 @@ TEST_P(GridOperatorsTransforms, MeanCurvatureOfSphereDistanceIsOneOverRadius) {
     const auto x = xform();
     // Distance to a sphere of radius 2 around c: H = 1/r on each level set r.
     const Vec3d c = x->indexToWorld(Vec3d(0.5, -0.25, 2.0));
-    auto grid = sampleField<DoubleGrid>(kBox, x, [&](const Vec3d& p) { return (p - c).length() - 2.0; });
+    auto grid =
+        sampleField<DoubleGrid>(kBox, x, [&](const Vec3d& p) { return (p - c).length() - 2.0; });
     auto h = tools::meanCurvature(*grid);
     auto acc = h->getConstAccessor();
     const double minVoxel = std::min({x->voxelSize()[0], x->voxelSize()[1], x->voxelSize()[2]});
@@ -129,7 +131,9 @@ TEST_P(GridOperatorsTransforms, MeanCurvatureOfSphereDistanceIsOneOverRadius) {
 // region must drop by about 4 when the voxel size halves.
 TEST(GridOperators, ErrorsOfSmoothFieldsShrinkAtSecondOrder) {
     const double k = 1.3;
-    const auto f = [k](const Vec3d& p) { return std::sin(k * p[0]) * std::cos(k * p[1]) * std::sin(k * p[2] + 0.4); };
+    const auto f = [k](const Vec3d& p) {
+        return std::sin(k * p[0]) * std::cos(k * p[1]) * std::sin(k * p[2] + 0.4);
+    };
     const auto grad = [k](const Vec3d& p) {
         return Vec3d(k * std::cos(k * p[0]) * std::cos(k * p[1]) * std::sin(k * p[2] + 0.4),
                      -k * std::sin(k * p[0]) * std::sin(k * p[1]) * std::sin(k * p[2] + 0.4),
@@ -150,13 +154,86 @@ TEST(GridOperators, ErrorsOfSmoothFieldsShrinkAtSecondOrder) {
         forEachVoxel(CoordBBox(Coord(-n), Coord(n)), [&](const Coord& ijk) {
             const Vec3d p = x->indexToWorld(ijk);
             gradErr[level] = std::max(gradErr[level], (gacc.getValue(ijk) - grad(p)).length());
-            lapErr[level] = std::max(lapErr[level], std::abs(lacc.getValue(ijk) + 3 * k * k * f(p)));
+            lapErr[level] =
+                std::max(lapErr[level], std::abs(lacc.getValue(ijk) + 3 * k * k * f(p)));
         });
     }
     EXPECT_GT(gradErr[0] / gradErr[1], 3.5);
     EXPECT_LT(gradErr[0] / gradErr[1], 4.5);
     EXPECT_GT(lapErr[0] / lapErr[1], 3.5);
     EXPECT_LT(lapErr[0] / lapErr[1], 4.5);
+}
+
+// The same under a non-uniform scale and a translation, for every differential operator:
+// gradient and Laplacian of a trigonometric field, divergence and curl of a trigonometric
+// vector field, and the mean curvature of the distance to a point outside the region (its
+// level sets are spheres: H = 1/r). The largest world-unit error over the world box
+// [-1, 1]^3 must drop by about 4 when the voxel size halves.
+TEST(GridOperators, ErrorsShrinkAtSecondOrderUnderScaleAndTranslation) {
+    const double k = 1.1;
+    const Vec3d scale(1.0, 0.75, 1.25), shift(0.3, -0.2, 0.1), c(3.0, 0.5, -0.5);
+    const auto f = [k](const Vec3d& p) {
+        return std::sin(k * p[0]) * std::cos(k * p[1]) + std::sin(k * p[2]);
+    };
+    const auto grad = [k](const Vec3d& p) {
+        return Vec3d(k * std::cos(k * p[0]) * std::cos(k * p[1]),
+                     -k * std::sin(k * p[0]) * std::sin(k * p[1]), k * std::cos(k * p[2]));
+    };
+    const auto lap = [k](const Vec3d& p) {
+        return -2 * k * k * std::sin(k * p[0]) * std::cos(k * p[1]) - k * k * std::sin(k * p[2]);
+    };
+    // u = (sin kx cos ky, sin kz, cos kx sin ky).
+    const auto u = [k](const Vec3d& p) {
+        return Vec3d(std::sin(k * p[0]) * std::cos(k * p[1]), std::sin(k * p[2]),
+                     std::cos(k * p[0]) * std::sin(k * p[1]));
+    };
+    const auto div = [k](const Vec3d& p) { return k * std::cos(k * p[0]) * std::cos(k * p[1]); };
+    const auto curl = [k](const Vec3d& p) {
+        const double s = k * std::sin(k * p[0]) * std::sin(k * p[1]);
+        return Vec3d(k * std::cos(k * p[0]) * std::cos(k * p[1]) - k * std::cos(k * p[2]), s, s);
+    };
+    const auto dist = [c](const Vec3d& p) { return (p - c).length(); };
+    double err[5][2];
+    for (int level = 0; level < 2; ++level) {
+        const double dx = 0.1 / (1 << level);
+        auto x = math::Transform::createLinearTransform(dx);
+        x->preScale(scale);
+        x->postTranslate(shift);
+        // The voxels inside [-1, 1]^3, and two more on every side for the stencils.
+        Coord lo, hi;
+        for (int a = 0; a < 3; ++a) {
+            const double h = dx * scale[size_t(a)];
+            lo[size_t(a)] = Int32(std::ceil((-1.0 - shift[size_t(a)]) / h));
+            hi[size_t(a)] = Int32(std::floor((1.0 - shift[size_t(a)]) / h));
+        }
+        const CoordBBox region(lo, hi), sampled(lo.offsetBy(-2), hi.offsetBy(2));
+        auto scalar = sampleField<DoubleGrid>(sampled, x, f);
+        auto vector = sampleField<Vec3DGrid>(sampled, x, u);
+        auto distance = sampleField<DoubleGrid>(sampled, x, dist);
+        auto g = tools::gradient(*scalar);
+        auto l = tools::laplacian(*scalar);
+        auto d = tools::divergence(*vector);
+        auto r = tools::curl(*vector);
+        auto h = tools::meanCurvature(*distance);
+        for (auto& e : err)
+            e[level] = 0.0;
+        forEachVoxel(region, [&](const Coord& ijk) {
+            const Vec3d p = x->indexToWorld(ijk);
+            const double e[5] = {(g->tree().getValue(ijk) - grad(p)).length(),
+                                 std::abs(l->tree().getValue(ijk) - lap(p)),
+                                 std::abs(d->tree().getValue(ijk) - div(p)),
+                                 (r->tree().getValue(ijk) - curl(p)).length(),
+                                 std::abs(h->tree().getValue(ijk) - 1.0 / dist(p))};
+            for (int i = 0; i < 5; ++i)
+                err[i][level] = std::max(err[i][level], e[i]);
+        });
+    }
+    const char* names[5] = {"gradient", "laplacian", "divergence", "curl", "meanCurvature"};
+    for (int i = 0; i < 5; ++i) {
+        EXPECT_GT(err[i][0], 0.0) << names[i];
+        EXPECT_GT(err[i][0] / err[i][1], 3.5) << names[i] << ": " << err[i][0] << " " << err[i][1];
+        EXPECT_LT(err[i][0] / err[i][1], 4.5) << names[i] << ": " << err[i][0] << " " << err[i][1];
+    }
 }
 
 TEST(GridOperators, MeanCurvatureOfLevelSetSphereApproachesOneOverRadius) {
@@ -183,7 +260,8 @@ TEST(GridOperators, MeanCurvatureOfLevelSetSphereApproachesOneOverRadius) {
 TEST(GridOperators, StaggeredDivergenceUsesForwardDifferences) {
     // u = x^2 in component 0 only: forward difference (u(i+1) - u(i)) / dx at i.
     auto x = math::Transform::createLinearTransform(0.5);
-    auto grid = sampleField<Vec3DGrid>(kBox, x, [](const Vec3d& p) { return Vec3d(p[0] * p[0], 0, 0); });
+    auto grid =
+        sampleField<Vec3DGrid>(kBox, x, [](const Vec3d& p) { return Vec3d(p[0] * p[0], 0, 0); });
     auto central = tools::divergence(*grid);
     grid->setGridClass(GRID_STAGGERED);
     auto staggered = tools::divergence(*grid);
@@ -275,8 +353,8 @@ TEST(GridOperators, ResultsDoNotDependOnThreads) {
 
 TEST(GridOperators, FrustumTransformsAreRefused) {
     auto grid = FloatGrid::create(0.0f);
-    grid->setTransform(math::Transform::createFrustumTransform(
-        BBoxd(Vec3d(0.0), Vec3d(10.0)), 0.5, 2.0));
+    grid->setTransform(
+        math::Transform::createFrustumTransform(BBoxd(Vec3d(0.0), Vec3d(10.0)), 0.5, 2.0));
     grid->tree().setValue(Coord(1), 1.0f);
     EXPECT_THROW(tools::gradient(*grid), ValueError);
 }

@@ -26,9 +26,9 @@ constexpr double kPi = std::numbers::pi;
 
 struct Shape {
     std::string name;
-    test::Sdf sdf;       // voxel units, for a resolution `res` over the unit box
-    CoordBBox box;       // voxels to sample
-    double area, volume; // world units, voxel size 1 / res
+    test::Sdf sdf;        // voxel units, for a resolution `res` over the unit box
+    CoordBBox box;        // voxels to sample
+    double area, volume;  // world units, voxel size 1 / res
     int euler;
 };
 
@@ -57,10 +57,10 @@ std::vector<Shape> shapes(int res) {
         const double radius = 0.18;
         const auto a = test::sphereSdf(0.27 * r, 0.5 * r, 0.5 * r, radius * r);
         const auto b = test::sphereSdf(0.73 * r, 0.5 * r, 0.5 * r, radius * r);
-        out.push_back({"two spheres",
-                       [a, b](double x, double y, double z) { return std::min(a(x, y, z), b(x, y, z)); },
-                       all, 2 * 4 * kPi * radius * radius,
-                       2 * 4.0 / 3.0 * kPi * radius * radius * radius, 4});
+        out.push_back(
+            {"two spheres",
+             [a, b](double x, double y, double z) { return std::min(a(x, y, z), b(x, y, z)); }, all,
+             2 * 4 * kPi * radius * radius, 2 * 4.0 / 3.0 * kPi * radius * radius * radius, 4});
     }
     return out;
 }

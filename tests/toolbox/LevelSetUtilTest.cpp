@@ -111,10 +111,10 @@ TEST(LevelSetUtil, EnclosedRegionFillsTheCavityOfAHollowShell) {
 TEST(LevelSetUtil, SegmentActiveVoxelsSplitsDisjointPartsLargestFirst) {
     auto grid = FloatGrid::create(-1.0f);
     grid->setName("parts");
-    grid->tree().fill(CoordBBox(Coord(0), Coord(9)), 1.0f, true);           // 1000 voxels
+    grid->tree().fill(CoordBBox(Coord(0), Coord(9)), 1.0f, true);                // 1000 voxels
     grid->tree().fill(CoordBBox(Coord(20, 0, 0), Coord(24, 4, 4)), 2.0f, true);  // 125
     grid->tree().fill(CoordBBox::createCube(Coord(128, 0, 0), 8), 3.0f, true);   // a leaf tile
-    grid->tree().setValue(Coord(136, 0, 0), 4.0f);  // touches the tile: same part (513)
+    grid->tree().setValue(Coord(136, 0, 0), 4.0f);      // touches the tile: same part (513)
     grid->tree().setValueOff(Coord(30, 30, 30), 5.0f);  // inactive: no part
     std::vector<FloatGrid::Ptr> parts;
     tools::segmentActiveVoxels(*grid, parts);

@@ -32,8 +32,7 @@ void forEachVoxel(const CoordBBox& box, const FuncT& f) {
 /// voxel centre under `xform`); background `background`.
 template <typename GridT, typename FieldT>
 typename GridT::Ptr sampleField(const CoordBBox& box, const math::Transform::Ptr& xform,
-                                const FieldT& field,
-                                typename GridT::ValueType background = {}) {
+                                const FieldT& field, typename GridT::ValueType background = {}) {
     auto grid = GridT::create(background);
     grid->setTransform(xform);
     auto acc = grid->getAccessor();

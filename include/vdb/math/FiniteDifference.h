@@ -240,16 +240,17 @@ struct Derivatives {
 template <typename T, typename AtT>
 inline Derivatives<T> centralDerivatives(const AtT& at) {
     const auto f = [&at](int i, int j, int k) { return T(at(i, j, k)); };
-    return {centralDiff<0>(f),           centralDiff<1>(f),           centralDiff<2>(f),
-            centralDiff2<0>(f),          centralDiff2<1>(f),          centralDiff2<2>(f),
-            centralDiffMixed<0, 1>(f),   centralDiffMixed<0, 2>(f),   centralDiffMixed<1, 2>(f)};
+    return {centralDiff<0>(f),         centralDiff<1>(f),         centralDiff<2>(f),
+            centralDiff2<0>(f),        centralDiff2<1>(f),        centralDiff2<2>(f),
+            centralDiffMixed<0, 1>(f), centralDiffMixed<0, 2>(f), centralDiffMixed<1, 2>(f)};
 }
 
 /// The two parts of the mean curvature H = div(grad f / |grad f|) / 2 = alpha / (2 |grad f|^3)
 /// and of the Gaussian curvature K = alphaG / |grad f|^4 (Goldman's formulas for the curvatures
 /// of an implicit surface), from the derivatives `d`: `alphaM`, `alphaG` and `normGrad` =
 /// |grad f|. False, with all three 0, where |grad f|^2 is at most `tolerance` (OpenVDB's: 1e-15
-/// in double, 1e-8 in float; the surface has no normal there). The units follow `d`'s: index or world space.
+/// in double, 1e-8 in float; the surface has no normal there). The units follow `d`'s: index or
+/// world space.
 template <typename T>
 inline bool curvatureTerms(const Derivatives<T>& d, T& alphaM, T& alphaG, T& normGrad,
                            T tolerance = Tolerance<T>::value()) {

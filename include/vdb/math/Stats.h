@@ -41,7 +41,8 @@ template <typename ValueT, typename Less = std::less<ValueT>>
 class MinMax {
 public:
     MinMax() requires std::numeric_limits<ValueT>::is_specialized
-        : mMin(std::numeric_limits<ValueT>::max()), mMax(std::numeric_limits<ValueT>::lowest()) {}
+        : mMin(std::numeric_limits<ValueT>::max()),
+          mMax(std::numeric_limits<ValueT>::lowest()) {}
     MinMax(const ValueT& min, const ValueT& max) : mMin(min), mMax(max) {}
 
     void add(const ValueT& value, const Less& less = Less()) {

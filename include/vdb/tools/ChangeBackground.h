@@ -33,8 +33,8 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <type_traits>
+#include <utility>
 
 namespace vdb::tools {
 
@@ -52,8 +52,7 @@ void changeBackground(tree::LeafManager<TreeT>& leaves, const typename TreeT::Va
 /// and `insideWidth` where it is, and `outsideWidth` the background.
 /// @throw ValueError unless outsideWidth >= 0 and insideWidth < 0.
 template <SignedVdbTree TreeT>
-void changeAsymmetricLevelSetBackground(TreeT& tree,
-                                        const typename TreeT::ValueType& outsideWidth,
+void changeAsymmetricLevelSetBackground(TreeT& tree, const typename TreeT::ValueType& outsideWidth,
                                         const typename TreeT::ValueType& insideWidth,
                                         bool threaded = true, size_t grainSize = 32);
 template <SignedVdbTree TreeT>
@@ -102,7 +101,8 @@ void forEachTile(TreeT& tree, const FuncT& f, bool threaded) {
     const NodeLists<TreeT> nodes(tree, 1);
     [&]<Index... L>(std::integer_sequence<Index, L...>) {
         (nodes.template foreach<L + 1>(changeTiles, threaded), ...);
-    }(std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
+    }
+    (std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
     TopT& top = tree.topNode();
     if constexpr (tree::IS_ROOT_NODE<TopT>) {
         for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
@@ -162,33 +162,32 @@ void changeBackground(TreeT& tree, const typename TreeT::ValueType& background, 
 }
 
 template <VdbTree TreeT>
-void changeBackground(tree::LeafManager<TreeT>& leaves,
-                      const typename TreeT::ValueType& background, bool threaded,
-                      size_t grainSize) {
+void changeBackground(tree::LeafManager<TreeT>& leaves, const typename TreeT::ValueType& background,
+                      bool threaded, size_t grainSize) {
     changeBackground(leaves.tree(), background, threaded, grainSize);
 }
 
 template <SignedVdbTree TreeT>
-void changeAsymmetricLevelSetBackground(TreeT& tree,
-                                        const typename TreeT::ValueType& outsideWidth,
-                                        const typename TreeT::ValueType& insideWidth,
-                                        bool threaded, size_t grainSize) {
+void changeAsymmetricLevelSetBackground(TreeT& tree, const typename TreeT::ValueType& outsideWidth,
+                                        const typename TreeT::ValueType& insideWidth, bool threaded,
+                                        size_t grainSize) {
     using ValueT = typename TreeT::ValueType;
     if (!(outsideWidth >= ValueT(0)))
-        throw ValueError("changeAsymmetricLevelSetBackground: the outside value cannot be negative");
+        throw ValueError(
+            "changeAsymmetricLevelSetBackground: the outside value cannot be negative");
     if (!(insideWidth < ValueT(0)))
         throw ValueError("changeAsymmetricLevelSetBackground: the inside value must be negative");
     detail::forEachInactiveValue(
-        tree, [&](const ValueT& v) { return v < ValueT(0) ? insideWidth : outsideWidth; },
-        threaded, grainSize);
+        tree, [&](const ValueT& v) { return v < ValueT(0) ? insideWidth : outsideWidth; }, threaded,
+        grainSize);
     tree.setBackground(outsideWidth);
 }
 
 template <SignedVdbTree TreeT>
 void changeAsymmetricLevelSetBackground(tree::LeafManager<TreeT>& leaves,
                                         const typename TreeT::ValueType& outsideWidth,
-                                        const typename TreeT::ValueType& insideWidth,
-                                        bool threaded, size_t grainSize) {
+                                        const typename TreeT::ValueType& insideWidth, bool threaded,
+                                        size_t grainSize) {
     changeAsymmetricLevelSetBackground(leaves.tree(), outsideWidth, insideWidth, threaded,
                                        grainSize);
 }

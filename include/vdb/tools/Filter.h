@@ -146,8 +146,7 @@ void Filter<GridT, MaskT>::median(int width, int iterations, const MaskT* mask) 
         detail::checkFilterWidth(width, MEDIAN_FILTER_MAX_WIDTH, "Filter::median");
         if (iterations <= 0)
             return;
-        const detail::MaskRange<float> range{float(mRange.min), float(mRange.max),
-                                             mRange.invert};
+        const detail::MaskRange<float> range{float(mRange.min), float(mRange.max), mRange.invert};
         tree::LeafManager<TreeType> leaves(mGrid->tree());
         leaves.setAuxBufferCount(1, threaded());
         for (int i = 0; i < iterations; ++i) {

@@ -55,8 +55,8 @@ struct VectorToScalarConverter {
 /// values (FloatGrid to Vec3SGrid).
 template <typename ScalarGridT>
 struct ScalarToVectorConverter {
-    using Type =
-        typename ScalarGridT::template ValueConverter<math::Vec3<typename ScalarGridT::ValueType>>::Type;
+    using Type = typename ScalarGridT::template ValueConverter<
+        math::Vec3<typename ScalarGridT::ValueType>>::Type;
 };
 
 /// A grid of floating-point scalars (the input of gradient, laplacian, meanCurvature).
@@ -66,7 +66,8 @@ concept ScalarGridType = std::is_floating_point_v<typename GridT::ValueType>;
 template <typename GridT>
 concept VectorGridType = requires {
     typename GridT::ValueType::value_type;
-} && std::is_floating_point_v<typename GridT::ValueType::value_type>;
+}
+&&std::is_floating_point_v<typename GridT::ValueType::value_type>;
 
 /// A grid whose active topology serves as a mask (any value type).
 template <typename GridT>
@@ -90,8 +91,7 @@ template <VectorGridType GridT>
 typename VectorToScalarConverter<GridT>::Type::Ptr divergence(const GridT& grid,
                                                               bool threaded = true);
 template <VectorGridType GridT, MaskGridLike MaskT>
-typename VectorToScalarConverter<GridT>::Type::Ptr divergence(const GridT& grid,
-                                                              const MaskT& mask,
+typename VectorToScalarConverter<GridT>::Type::Ptr divergence(const GridT& grid, const MaskT& mask,
                                                               bool threaded = true);
 
 /// The curl of a vector grid, in world units.
@@ -118,8 +118,7 @@ template <VectorGridType GridT>
 typename VectorToScalarConverter<GridT>::Type::Ptr magnitude(const GridT& grid,
                                                              bool threaded = true);
 template <VectorGridType GridT, MaskGridLike MaskT>
-typename VectorToScalarConverter<GridT>::Type::Ptr magnitude(const GridT& grid,
-                                                             const MaskT& mask,
+typename VectorToScalarConverter<GridT>::Type::Ptr magnitude(const GridT& grid, const MaskT& mask,
                                                              bool threaded = true);
 
 /// Every vector of a vector grid scaled to unit length (zero vectors stay zero).

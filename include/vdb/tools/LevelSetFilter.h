@@ -134,8 +134,7 @@ void LevelSetFilter<GridT, MaskT>::box(int width, const MaskT* mask) {
         Coord radius(0);
         radius[size_t(axis)] = width;
         detail::filterPass(
-            leaves, radius, detail::BlockShape::Cross, this->grid().transform(), mask,
-            floatRange(),
+            leaves, radius, detail::BlockShape::Cross, this->grid().transform(), mask, floatRange(),
             [&](const auto& block, Index n) {
                 return detail::boxAverage(block, n, axis, width, frac);
             },
@@ -194,7 +193,7 @@ void LevelSetFilter<GridT, MaskT>::laplacian(const MaskT* mask) {
     passAndTrack(Coord(1), detail::BlockShape::Cross, mask, [&](const auto& block, Index n) {
         const ValueType* c = block.atOffset(n);
         return *c + dt * (invDx2 * math::centralLaplacian(
-                                        detail::BlockPoint<ValueType>{c, block.sx(), block.sy()}));
+                                       detail::BlockPoint<ValueType>{c, block.sx(), block.sy()}));
     });
 }
 
@@ -210,8 +209,8 @@ void LevelSetFilter<GridT, MaskT>::offset(ValueType value, const MaskT* mask) {
         dist += delta;
         auto& leaves = this->leafs();
         leaves.rebuild();
-        detail::offsetPass(leaves, ValueType(std::copysign(delta, value)),
-                           this->grid().transform(), mask, floatRange(), this->isThreaded());
+        detail::offsetPass(leaves, ValueType(std::copysign(delta, value)), this->grid().transform(),
+                           mask, floatRange(), this->isThreaded());
         this->track();
     }
 }

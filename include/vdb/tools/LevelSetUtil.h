@@ -76,7 +76,8 @@ typename GridT::template ValueConverter<bool>::Type::Ptr extractIsosurfaceMask(
 /// of `grid`, largest (most active voxels) first.
 template <typename GridT>
 void extractActiveVoxelSegmentMasks(
-    const GridT& grid, std::vector<typename GridT::template ValueConverter<bool>::Type::Ptr>& masks);
+    const GridT& grid,
+    std::vector<typename GridT::template ValueConverter<bool>::Type::Ptr>& masks);
 
 /// Appends to `segments` one grid per face-connected component of the active voxels and tiles
 /// of `grid`, holding that component's values (and `grid`'s transform and metadata), largest

@@ -180,8 +180,8 @@ math::Histogram histogram(const IterT& iter, double minVal, double maxVal, size_
                           bool threaded) {
     const math::Histogram empty(minVal, maxVal, numBins);  // validates the range first
     return detail::accumulate(
-        iter, [&] { return empty; },
-        [](math::Histogram& h, double v, Index64 n) { h.add(v, n); }, threaded);
+        iter, [&] { return empty; }, [](math::Histogram& h, double v, Index64 n) { h.add(v, n); },
+        threaded);
 }
 
 }  // namespace vdb::tools

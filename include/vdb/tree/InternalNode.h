@@ -89,7 +89,8 @@ public:
     /// The same node configuration with values of type `OtherValueT`.
     template <typename OtherValueT>
     struct ValueConverter {
-        using Type = InternalNode<typename ChildT::template ValueConverter<OtherValueT>::Type, Log2Dim>;
+        using Type =
+            InternalNode<typename ChildT::template ValueConverter<OtherValueT>::Type, Log2Dim>;
     };
 
     static constexpr Index LOG2DIM = Log2Dim;

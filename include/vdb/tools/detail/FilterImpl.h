@@ -21,8 +21,8 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -103,8 +103,8 @@ public:
             return;
         }
         for (Index n = 0; n < Index(NumValues); ++n) {
-            const Coord ijk = origin.offsetBy(Int32(n >> (2 * log2Dim)),
-                                              Int32((n >> log2Dim) & (dim - 1)), Int32(n & (dim - 1)));
+            const Coord ijk = origin.offsetBy(
+                Int32(n >> (2 * log2Dim)), Int32((n >> log2Dim) & (dim - 1)), Int32(n & (dim - 1)));
             float m;
             if (mAligned) {
                 m = float(mAcc.getValue(ijk));
@@ -165,6 +165,15 @@ ValueT blend(const ValueT& oldValue, const ValueT& newValue, float a) {
     return scaledBy(oldValue, 1.0f - a) + scaledBy(newValue, a);
 }
 
+/// The alpha mask of `mask` for a grid with transform `xform`, or null without a mask.
+template <typename MaskT>
+std::unique_ptr<AlphaMask<MaskT>> makeAlphaMask(const math::Transform& xform, const MaskT* mask,
+                                                const MaskRange<float>& range) {
+    if (!mask)
+        return nullptr;
+    return std::make_unique<AlphaMask<MaskT>>(xform, *mask, range.min, range.max, range.invert);
+}
+
 /// One filter pass: for every active voxel n of every leaf,
 ///   buffer1[n] = op(block, n)                    without a mask,
 ///   buffer1[n] = blend(buffer0[n], op(block, n), alpha[n])   with one (op skipped where alpha
@@ -184,11 +193,8 @@ void filterPass(tree::LeafManager<TreeT>& leaves, const Coord& radius, BlockShap
         [&](size_t begin, size_t end) {
             const tree::ValueAccessor<const TreeT> acc(tree);
             NeighborhoodBlock<TreeT> block(radius, shape);
-            std::unique_ptr<AlphaMask<MaskT>> alphaMask;
+            const auto alphaMask = makeAlphaMask(xform, mask, range);
             std::array<float, LeafT::NUM_VALUES> alpha;
-            if (mask)
-                alphaMask = std::make_unique<AlphaMask<MaskT>>(xform, *mask, range.min,
-                                                               range.max, range.invert);
             for (size_t i = begin; i < end; ++i) {
                 LeafT& leaf = leaves.leaf(i);
                 if (leaf.isEmpty())
@@ -259,11 +265,8 @@ void offsetPass(tree::LeafManager<TreeT>& leaves, const typename TreeT::ValueTyp
     util::parallelForRange(
         leaves.leafCount(),
         [&](size_t begin, size_t end) {
-            std::unique_ptr<AlphaMask<MaskT>> alphaMask;
+            const auto alphaMask = makeAlphaMask(xform, mask, range);
             std::array<float, LeafT::NUM_VALUES> alpha;
-            if (mask)
-                alphaMask = std::make_unique<AlphaMask<MaskT>>(xform, *mask, range.min,
-                                                               range.max, range.invert);
             for (size_t i = begin; i < end; ++i) {
                 LeafT& leaf = leaves.leaf(i);
                 if (leaf.isEmpty())

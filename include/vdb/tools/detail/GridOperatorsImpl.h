@@ -57,9 +57,9 @@ public:
                 mG[a][b] = mQ[0][a] * mQ[0][b] + mQ[1][a] * mQ[1][b] + mQ[2][a] * mQ[2][b];
         for (int a = 0; a < 3; ++a)
             mInvScale[a] = diagonal ? 1.0 / m(a, a) : 0.0;
-        mKind = !diagonal                                                          ? Kind::General
-                : (m(0, 0) == m(1, 1) && m(0, 0) == m(2, 2))                       ? Kind::Uniform
-                                                                                   : Kind::Diagonal;
+        mKind = !diagonal                                    ? Kind::General
+                : (m(0, 0) == m(1, 1) && m(0, 0) == m(2, 2)) ? Kind::Uniform
+                                                             : Kind::Diagonal;
     }
 
     Kind kind() const { return mKind; }
@@ -87,7 +87,8 @@ public:
     /// The world-space derivatives of index-space derivatives `d`.
     math::Derivatives<double> derivatives(const math::Derivatives<double>& d) const {
         const Vec3d g = gradient(Vec3d(d.dx, d.dy, d.dz));
-        const double h[3][3] = {{d.dxx, d.dxy, d.dxz}, {d.dxy, d.dyy, d.dyz}, {d.dxz, d.dyz, d.dzz}};
+        const double h[3][3] = {
+            {d.dxx, d.dxy, d.dxz}, {d.dxy, d.dyy, d.dyz}, {d.dxz, d.dyz, d.dzz}};
         double w[3][3];  // Q H Q^T
         for (int j = 0; j < 3; ++j) {
             for (int k = j; k < 3; ++k) {
@@ -132,8 +133,8 @@ struct GradientKernel {
     const DerivativeMap& map;
     BlockShape shape() const { return BlockShape::Cross; }
     OutValueT operator()(const BlockPoint<T>& p) const {
-        return map.gradient(
-            math::Vec3<T>(math::centralDiff<0>(p), math::centralDiff<1>(p), math::centralDiff<2>(p)));
+        return map.gradient(math::Vec3<T>(math::centralDiff<0>(p), math::centralDiff<1>(p),
+                                          math::centralDiff<2>(p)));
     }
 };
 
@@ -381,8 +382,8 @@ typename OutGridT::Ptr applyOperator(const InGridT& grid, const MaskGridT* mask,
                                      const KernelT& kernel, bool densify, bool threaded) {
     using MaskTreeT = typename MaskGridT::TreeType;
     auto tree = applyKernel<typename OutGridT::TreeType>(
-        grid.tree(), mask ? &mask->tree() : static_cast<const MaskTreeT*>(nullptr), kernel,
-        densify, threaded);
+        grid.tree(), mask ? &mask->tree() : static_cast<const MaskTreeT*>(nullptr), kernel, densify,
+        threaded);
     auto result = OutGridT::create(tree);
     result->setTransform(grid.transform().copy());
     return result;
@@ -475,15 +476,14 @@ typename VectorToScalarConverter<GridT>::Type::Ptr divergence(const GridT& grid,
                                   threaded);
 }
 template <VectorGridType GridT, MaskGridLike MaskT>
-typename VectorToScalarConverter<GridT>::Type::Ptr divergence(const GridT& grid,
-                                                              const MaskT& mask, bool threaded) {
+typename VectorToScalarConverter<GridT>::Type::Ptr divergence(const GridT& grid, const MaskT& mask,
+                                                              bool threaded) {
     return detail::divergenceImpl(grid, &mask, threaded);
 }
 
 template <VectorGridType GridT>
 typename GridT::Ptr curl(const GridT& grid, bool threaded) {
-    return detail::curlImpl(grid, static_cast<const detail::NoMaskGrid<GridT>*>(nullptr),
-                            threaded);
+    return detail::curlImpl(grid, static_cast<const detail::NoMaskGrid<GridT>*>(nullptr), threaded);
 }
 template <VectorGridType GridT, MaskGridLike MaskT>
 typename GridT::Ptr curl(const GridT& grid, const MaskT& mask, bool threaded) {

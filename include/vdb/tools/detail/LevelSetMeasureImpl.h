@@ -30,7 +30,9 @@ namespace detail {
 class DiracDelta {
 public:
     explicit DiracDelta(double e) : mC(0.5 / e), mD(std::numbers::pi / e), mE(e) {}
-    double operator()(double x) const { return std::abs(x) > mE ? 0.0 : mC * (1.0 + std::cos(mD * x)); }
+    double operator()(double x) const {
+        return std::abs(x) > mE ? 0.0 : mC * (1.0 + std::cos(mD * x));
+    }
 
 private:
     double mC, mD, mE;

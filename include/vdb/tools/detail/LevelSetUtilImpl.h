@@ -39,7 +39,8 @@ namespace vdb::tools::detail {
 /// A new grid of type OutGridT around `tree` with `like`'s transform (and metadata when
 /// `withMetadata`).
 template <typename OutGridT, typename InGridT>
-typename OutGridT::Ptr gridLike(const InGridT& like, std::shared_ptr<typename OutGridT::TreeType> tree,
+typename OutGridT::Ptr gridLike(const InGridT& like,
+                                std::shared_ptr<typename OutGridT::TreeType> tree,
                                 bool withMetadata) {
     auto grid = OutGridT::create(std::move(tree));
     if (withMetadata) {
@@ -56,23 +57,22 @@ template <typename TreeT>
 typename TreeT::ValueType deepestValue(const TreeT& tree, bool threaded) {
     using ValueT = typename TreeT::ValueType;
     ValueT deepest = std::numeric_limits<ValueT>::max();
-    visitTiles<ValueFilter::All>(tree.topNode(), [&](const CoordBBox&, const ValueT& v) {
-        deepest = std::min(deepest, v);
-    });
+    visitTiles<ValueFilter::All>(
+        tree.topNode(), [&](const CoordBBox&, const ValueT& v) { deepest = std::min(deepest, v); });
     if (deepest > ValueT(0)) {
         const tree::LeafManager<const TreeT> leaves(tree);
-        deepest = std::min(
-            deepest, util::parallelReduce(
-                         leaves.leafCount(), std::numeric_limits<ValueT>::max(),
-                         [&](size_t begin, size_t end) {
-                             ValueT m = std::numeric_limits<ValueT>::max();
-                             for (size_t i = begin; i < end; ++i) {
-                                 for (const ValueT& v : leaves.leaf(i).buffer(0))
-                                     m = std::min(m, v);
-                             }
-                             return m;
-                         },
-                         [](ValueT a, ValueT b) { return std::min(a, b); }, threaded));
+        deepest =
+            std::min(deepest, util::parallelReduce(
+                                  leaves.leafCount(), std::numeric_limits<ValueT>::max(),
+                                  [&](size_t begin, size_t end) {
+                                      ValueT m = std::numeric_limits<ValueT>::max();
+                                      for (size_t i = begin; i < end; ++i) {
+                                          for (const ValueT& v : leaves.leaf(i).buffer(0))
+                                              m = std::min(m, v);
+                                      }
+                                      return m;
+                                  },
+                                  [](ValueT a, ValueT b) { return std::min(a, b); }, threaded));
     }
     return deepest;
 }
@@ -279,9 +279,9 @@ auto extractIsosurfaceMask(const GridT& grid, typename GridT::ValueType iso) {
                 for (Index n : leaf.getValueMask().onBits()) {
                     const ValueT* c = block.atOffset(n);
                     const bool under = *c < iso;
-                    if ((c[1] < iso) != under || (c[-1] < iso) != under ||
-                        (c[sy] < iso) != under || (c[-sy] < iso) != under ||
-                        (c[sx] < iso) != under || (c[-sx] < iso) != under)
+                    if ((c[1] < iso) != under || (c[-1] < iso) != under || (c[sy] < iso) != under ||
+                        (c[-sy] < iso) != under || (c[sx] < iso) != under ||
+                        (c[-sx] < iso) != under)
                         bits.setOn(n);
                 }
                 out[i] = boolLeafFrom<BoolLeafT>(leaf.origin(), bits);
@@ -379,7 +379,8 @@ auto extractEnclosedRegion(const GridT& grid, typename GridT::ValueType iso,
         queued[i] = 0;
         std::array<const MaskT*, 3> prev{}, next{};
         for (int a = 0; a < 3; ++a) {
-            const size_t p = cells.neighbours[i][size_t(2 * a)], q = cells.neighbours[i][size_t(2 * a + 1)];
+            const size_t p = cells.neighbours[i][size_t(2 * a)],
+                         q = cells.neighbours[i][size_t(2 * a + 1)];
             prev[size_t(a)] = p == cells.NONE ? nullptr : &exterior[p];
             next[size_t(a)] = q == cells.NONE ? nullptr : &exterior[q];
         }
@@ -552,7 +553,8 @@ struct ActiveComponents {
 
 template <typename GridT>
 void extractActiveVoxelSegmentMasks(
-    const GridT& grid, std::vector<typename GridT::template ValueConverter<bool>::Type::Ptr>& masks) {
+    const GridT& grid,
+    std::vector<typename GridT::template ValueConverter<bool>::Type::Ptr>& masks) {
     using BoolGridT = typename GridT::template ValueConverter<bool>::Type;
     using BoolTreeT = typename BoolGridT::TreeType;
     using BoolLeafT = typename BoolTreeT::LeafNodeType;
@@ -711,7 +713,8 @@ typename GridT::template ValueConverter<bool>::Type::Ptr extractIsosurfaceMask(
 
 template <typename GridT>
 void extractActiveVoxelSegmentMasks(
-    const GridT& grid, std::vector<typename GridT::template ValueConverter<bool>::Type::Ptr>& masks) {
+    const GridT& grid,
+    std::vector<typename GridT::template ValueConverter<bool>::Type::Ptr>& masks) {
     detail::extractActiveVoxelSegmentMasks(grid, masks);
 }
 
