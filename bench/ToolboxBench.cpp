@@ -474,11 +474,10 @@ int main(int argc, char** argv) {
     int measureRes = 1024;
     int reps = 3;
     std::vector<std::string> ops{
-        "ls-mean",   "ls-gaussian", "ls-median",   "ls-curvature", "ls-laplacian",
-        "ls-offset", "gradient",    "laplacian",   "curvature",    "fog",
-        "area-volume", "genus",     "mean",        "gaussian",     "median",
-        "offset",    "fog-gradient", "fog-laplacian", "divergence", "curl",
-        "magnitude", "normalize"};
+        "ls-mean",    "ls-gaussian", "ls-median", "ls-curvature", "ls-laplacian", "ls-offset",
+        "gradient",   "laplacian",   "curvature", "fog",          "area-volume",  "genus",
+        "mean",       "gaussian",    "median",    "offset",       "fog-gradient", "fog-laplacian",
+        "divergence", "curl",        "magnitude", "normalize"};
     std::vector<std::string> threads{"1", "all"};
     std::string samples = VDB_SAMPLES_DIR;
     std::string markdownPath;
@@ -549,8 +548,8 @@ int main(int argc, char** argv) {
                         a.medianMs / b.medianMs, match ? "same" : "DIFFERENT",
                         (unsigned long long)a.outcome.activeVoxels, a.outcome.a, a.outcome.b);
             if (!match)
-                std::printf("%-14s %-20s %7s %10s %10s %6s  openvdb: %llu active; %.6g, %.6g\n",
-                            "", "", "", "", "", "", (unsigned long long)b.outcome.activeVoxels,
+                std::printf("%-14s %-20s %7s %10s %10s %6s  openvdb: %llu active; %.6g, %.6g\n", "",
+                            "", "", "", "", "", (unsigned long long)b.outcome.activeVoxels,
                             b.outcome.a, b.outcome.b);
             std::fflush(stdout);
         }

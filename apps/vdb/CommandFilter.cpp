@@ -143,8 +143,7 @@ void addFilterCommand(CLI::App& app, Context& ctx) {
                             throw UsageError("grid \"" + grid->getName() + "\" (" + grid->type() +
                                              ", class " +
                                              std::string(gridClassToString(grid->getGridClass())) +
-                                             ") is not a level set; --op " + a.op +
-                                             " needs one");
+                                             ") is not a level set; --op " + a.op + " needs one");
                         return false;
                     }
                     // Without --grid, only the grids the value filters take.
@@ -195,30 +194,30 @@ void addFogCommand(CLI::App& app, Context& ctx) {
         double cutoff = 0;  // 0: the band's inside half
     };
     auto args = std::make_shared<Args>();
-    CLI::App* cmd = addCommand(
-        app, ctx, "fog",
-        "Turn level sets into fog volumes: density from 0 at the surface to 1 inside", true,
-        [args, &ctx] {
-            const Args& a = *args;
-            runEdit(
-                ctx, a.edit,
-                [&](Report& report, const GridBase::Ptr& grid) {
-                    // Without --grid, only grids marked as level sets.
-                    if (a.edit.grid.empty() && grid->getGridClass() != GRID_LEVEL_SET)
-                        return false;
-                    withLevelSetGrid(grid, [&](auto& g) {
-                        using ValueT = typename std::decay_t<decltype(g)>::ValueType;
-                        report.step("fog " + grid->getName(), [&] {
-                            if (a.cutoff > 0)
-                                tools::sdfToFogVolume(g, ValueT(a.cutoff));
-                            else
-                                tools::sdfToFogVolume(g);
-                        });
-                    });
-                    return true;
-                },
-                a.edit.input + " has no level set grid; name a float grid with --grid");
-        });
+    CLI::App* cmd =
+        addCommand(app, ctx, "fog",
+                   "Turn level sets into fog volumes: density from 0 at the surface to 1 inside",
+                   true, [args, &ctx] {
+                       const Args& a = *args;
+                       runEdit(
+                           ctx, a.edit,
+                           [&](Report& report, const GridBase::Ptr& grid) {
+                               // Without --grid, only grids marked as level sets.
+                               if (a.edit.grid.empty() && grid->getGridClass() != GRID_LEVEL_SET)
+                                   return false;
+                               withLevelSetGrid(grid, [&](auto& g) {
+                                   using ValueT = typename std::decay_t<decltype(g)>::ValueType;
+                                   report.step("fog " + grid->getName(), [&] {
+                                       if (a.cutoff > 0)
+                                           tools::sdfToFogVolume(g, ValueT(a.cutoff));
+                                       else
+                                           tools::sdfToFogVolume(g);
+                                   });
+                               });
+                               return true;
+                           },
+                           a.edit.input + " has no level set grid; name a float grid with --grid");
+                   });
     addEditOptions(*cmd, args->edit);
     cmd->add_option("--cutoff", args->cutoff,
                     "Depth (world units) at which the density reaches 1 (default: the band's "

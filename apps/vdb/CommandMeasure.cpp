@@ -156,8 +156,8 @@ void addStatsCommand(CLI::App& app, Context& ctx) {
                                            ", std " + numberText(s.stdDev())));
                     for (size_t b = 0; b < counts.size(); ++b) {
                         char line[128];
-                        std::snprintf(line, sizeof line, "    [%12.6g, %12.6g%c %s",
-                                      edges[b], edges[b + 1], b + 1 == counts.size() ? ']' : ')',
+                        std::snprintf(line, sizeof line, "    [%12.6g, %12.6g%c %s", edges[b],
+                                      edges[b + 1], b + 1 == counts.size() ? ']' : ')',
                                       withCommas(counts[b]).c_str());
                         report.note(line);
                     }
