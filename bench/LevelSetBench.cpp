@@ -22,7 +22,7 @@
 //
 // --enright RES also runs the whole Enright test (one full period, t = 0 to 3) at RES^3 in both
 // libraries with the same schemes and reports the volume loss, each library's final grid
-// measured by the same smeared-Heaviside volume (vdb::tools::levelSetVolume). With
+// measured by the same smeared-Heaviside volume (vdb::tools::smearedHeavisideVolume). With
 // --enright-frames N it runs the test a second time in N equal intervals (one advect call per
 // interval, as a caller writing N frames would): OpenVDB sizes each step by the speed at its
 // start and keeps that velocity for the whole step, so where Enright's field vanishes
@@ -380,7 +380,7 @@ int main(int argc, char** argv) {
         const auto band = vdb::bench::makeEnrightBand(enright);
         const auto ours = Vdb::build(band, enright);
         const auto theirs = OpenVdb::build(band, enright);
-        const double v0 = vdb::tools::levelSetVolume(*ours);
+        const double v0 = vdb::tools::smearedHeavisideVolume(*ours);
         std::printf("# Enright test, full period at %d^3, %d threads, initial volume %.6g\n",
                     enright, cores, v0);
         std::printf("%-8s %9s %6s %9s %12s %10s\n", "library", "intervals", "steps", "seconds",
@@ -396,8 +396,8 @@ int main(int argc, char** argv) {
             double secA = 0, secB = 0;
             const auto a = fullPeriod<Vdb>(*ours, intervals, stepsA, secA);
             const auto b = fullPeriod<OpenVdb>(*theirs, intervals, stepsB, secB);
-            const double va = vdb::tools::levelSetVolume(*a);
-            const double vb = vdb::tools::levelSetVolume(*b);
+            const double va = vdb::tools::smearedHeavisideVolume(*a);
+            const double vb = vdb::tools::smearedHeavisideVolume(*b);
             const double lossA = 100.0 * (v0 - va) / v0, lossB = 100.0 * (v0 - vb) / v0;
             std::printf("%-8s %9d %6zu %9.1f %12.6g %10.3f\n", "vdb", intervals, stepsA, secA, va,
                         lossA);

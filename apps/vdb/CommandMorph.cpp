@@ -12,59 +12,6 @@
 namespace vdb::app {
 namespace {
 
-/// The input file and grid selection of a read-edit-write command.
-struct EditArgs {
-    std::string input;
-    std::string grid;
-    OutputArgs out;
-};
-
-void addEditOptions(CLI::App& cmd, EditArgs& args) {
-    cmd.add_option("input", args.input, "The .vdb file to read")->required();
-    cmd.add_option("-g,--grid", args.grid, "Only this grid (default: every grid it applies to)");
-    addOutputOptions(cmd, args.out);
-}
-
-/// Reads the input, calls `edit(report, grid)` on the selected grids (it returns whether it
-/// applied to the grid), writes every grid. When no grid was edited, throws UsageError with
-/// `noneEdited` (if given) before anything is written.
-template <typename EditF>
-void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit,
-             const std::string& noneEdited = {}) {
-    checkOutputPath(args.out.path);
-    Report report(ctx);
-    const GridPtrVec grids =
-        report.step("read " + args.input, [&] { return readGrids(args.input, ctx); });
-    report.json().key("input").value(args.input).key("grids").beginArray();
-    size_t edited = 0;
-    for (const auto& grid : selectGrids(grids, args.grid, args.input)) {
-        const Index64 before = grid->activeVoxelCount();
-        if (!edit(report, grid))
-            continue;
-        ++edited;
-        const Index64 after = grid->activeVoxelCount();
-        report.note("  grid \"" + grid->getName() + "\": " + withCommas(before) + " -> " +
-                    withCommas(after) + " active voxels, " + withCommas(grid->leafCount()) +
-                    " leaves");
-        report.json()
-            .beginObject()
-            .key("name")
-            .value(grid->getName())
-            .key("activeVoxelsBefore")
-            .value(static_cast<uint64_t>(before))
-            .key("activeVoxelsAfter")
-            .value(static_cast<uint64_t>(after))
-            .key("leaves")
-            .value(static_cast<uint64_t>(grid->leafCount()))
-            .endObject();
-    }
-    report.json().endArray();
-    if (edited == 0 && !noneEdited.empty())
-        throw UsageError(noneEdited);
-    writeOutput(report, args.out, grids);
-    report.finish();
-}
-
 tools::NearestNeighbors parseNeighbors(const std::string& name) {
     if (name == "face" || name == "6")
         return tools::NN_FACE;

@@ -24,6 +24,11 @@ const char* const kFooter = R"(Examples:
   vdb morph dilate 2 sphere.vdb -o fat.vdb
   vdb csg difference a.vdb b.vdb -o cut.vdb
   vdb convert in.vdb -o small.vdb --compression zip --half
+  vdb filter bunny.vdb -o smooth.vdb --op gaussian --width 2
+  vdb measure bunny.vdb
+  vdb stats smoke.vdb --grid density
+  vdb gradient bunny.vdb -o normals.vdb
+  vdb fog bunny.vdb -o bunny_fog.vdb
 
 Run 'vdb COMMAND --help' for the options of one command.)";
 
@@ -58,6 +63,9 @@ int main(int argc, char** argv) {
     addRebuildCommand(app, ctx);
     addConvertCommand(app, ctx);
     addRenderCommand(app, ctx);
+    addFilterCommands(app, ctx);
+    addMeasureCommands(app, ctx);
+    addOperatorCommands(app, ctx);
 
     std::string names;
     bool known = false;

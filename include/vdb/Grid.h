@@ -56,10 +56,35 @@ inline GridClass stringToGridClass(std::string_view s) {
     return GRID_UNKNOWN;
 }
 
+/// The file strings of the vector types: "invariant", "covariant", "covariant normalize",
+/// "contravariant relative", "contravariant absolute".
+inline std::string_view vecTypeToString(VecType t) {
+    switch (t) {
+        case VEC_COVARIANT:
+            return "covariant";
+        case VEC_COVARIANT_NORMALIZE:
+            return "covariant normalize";
+        case VEC_CONTRAVARIANT_RELATIVE:
+            return "contravariant relative";
+        case VEC_CONTRAVARIANT_ABSOLUTE:
+            return "contravariant absolute";
+        default:
+            return "invariant";
+    }
+}
+/// The vector type named `s`; VEC_INVARIANT for any other string.
+inline VecType stringToVecType(std::string_view s) {
+    for (int t = 0; t < NUM_VEC_TYPES; ++t) {
+        if (vecTypeToString(VecType(t)) == s)
+            return VecType(t);
+    }
+    return VEC_INVARIANT;
+}
+
 /// A grid whose tree type is known only at run time: transform, metadata, and the tree
-/// operations that need no value type. The name, the class and the half-float flag live in
-/// the metadata under the keys the `.vdb` format uses ("name", "class",
-/// "is_saved_as_half_float").
+/// operations that need no value type. The name, the class, the vector type and the half-float
+/// flag live in the metadata under the keys the `.vdb` format uses ("name", "class",
+/// "vector_type", "is_saved_as_half_float").
 /// Threads: concurrent const calls are safe; any mutation needs exclusive access.
 class GridBase : public MetaMap {
 public:
@@ -69,6 +94,7 @@ public:
     static constexpr std::string_view META_GRID_NAME = "name";
     static constexpr std::string_view META_GRID_CLASS = "class";
     static constexpr std::string_view META_SAVE_HALF_FLOAT = "is_saved_as_half_float";
+    static constexpr std::string_view META_VECTOR_TYPE = "vector_type";
 
     virtual ~GridBase() = default;
 
@@ -86,6 +112,14 @@ public:
         insertMeta(META_GRID_CLASS, std::string(gridClassToString(c)));
     }
     void clearGridClass() { removeMeta(META_GRID_CLASS); }
+
+    /// How the values transform (meaningful for vector grids); VEC_INVARIANT when unset.
+    VecType getVectorType() const {
+        const auto* s = getMeta<std::string>(META_VECTOR_TYPE);
+        return s ? stringToVecType(*s) : VEC_INVARIANT;
+    }
+    void setVectorType(VecType t) { insertMeta(META_VECTOR_TYPE, std::string(vecTypeToString(t))); }
+    void clearVectorType() { removeMeta(META_VECTOR_TYPE); }
 
     /// Whether files store this grid's floating-point values as 16-bit halves.
     bool saveFloatAsHalf() const {
@@ -174,6 +208,12 @@ public:
     using ValueOffCIter = typename TreeT::ValueOffCIter;
     using ValueAllIter = typename TreeT::ValueAllIter;
     using ValueAllCIter = typename TreeT::ValueAllCIter;
+    /// The grid of the same tree configuration with values of type `OtherValueT`:
+    /// `FloatGrid::ValueConverter<Vec3s>::Type` is Vec3SGrid.
+    template <typename OtherValueT>
+    struct ValueConverter {
+        using Type = Grid<typename TreeT::template ValueConverter<OtherValueT>::Type>;
+    };
 
     /// A grid with an empty tree of background `background` and a unit transform.
     static Ptr create(const ValueType& background) {

@@ -21,6 +21,17 @@ struct ValueMask {};
 /// What a grid's values mean; stored in the file as the `class` metadata.
 enum GridClass { GRID_UNKNOWN = 0, GRID_LEVEL_SET, GRID_FOG_VOLUME, GRID_STAGGERED };
 
+/// How the vectors of a vector-valued grid transform when the grid's transform changes; stored
+/// in the file as the `vector_type` metadata (OpenVDB's names and order).
+enum VecType {
+    VEC_INVARIANT = 0,           ///< not transformed (a colour, an index)
+    VEC_COVARIANT,               ///< transformed by the inverse transpose (a gradient, a normal)
+    VEC_COVARIANT_NORMALIZE,     ///< covariant, then normalised (unit normals)
+    VEC_CONTRAVARIANT_RELATIVE,  ///< transformed by the linear part (a velocity, a direction)
+    VEC_CONTRAVARIANT_ABSOLUTE   ///< transformed as a point, translation included (a position)
+};
+inline constexpr int NUM_VEC_TYPES = VEC_CONTRAVARIANT_ABSOLUTE + 1;
+
 /// Which values a tree or node iterator visits.
 enum class ValueFilter { On, Off, All };
 

@@ -16,7 +16,6 @@ template class LevelSetAdvection<FloatGrid, ConstantVelocityField<float>>;
 template class LevelSetAdvection<FloatGrid, DiscreteField<Vec3SGrid>>;
 template class LevelSetAdvection<DoubleGrid, ConstantVelocityField<double>>;
 
-template double levelSetVolume(const FloatGrid&, double, bool);
 template EnrightResult runEnrightTest<FloatGrid>(
     const EnrightTestOptions&, const std::function<void(const EnrightSample&, const FloatGrid&)>&);
 

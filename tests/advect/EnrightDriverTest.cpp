@@ -25,15 +25,17 @@ TEST(EnrightTest, LevelSetVolumeMeasuresSpheres) {
         auto grid = tools::createEnrightSphere<FloatGrid>(res, 5.0f);
         const double exact = 4.0 / 3.0 * std::numbers::pi * std::pow(0.15, 3);
         // The smearing bias falls with the square of the voxel size over the radius.
-        EXPECT_NEAR(tools::levelSetVolume(*grid), exact, (res == 64 ? 0.015 : 0.005) * exact)
+        EXPECT_NEAR(tools::smearedHeavisideVolume(*grid), exact,
+                    (res == 64 ? 0.015 : 0.005) * exact)
             << res;
     }
     // A sphere big enough for inside tiles above the leaves.
     auto big = tools::createLevelSetSphere<FloatGrid>(1.0f, Vec3f(0.0f), 0.01f, 3.0f);
     EXPECT_GT(big->tree().leafCount(), 0u);
     const double exact = 4.0 / 3.0 * std::numbers::pi;
-    EXPECT_NEAR(tools::levelSetVolume(*big), exact, 1e-3 * exact);
-    EXPECT_EQ(tools::levelSetVolume(*big, 1.5, false), tools::levelSetVolume(*big, 1.5, true));
+    EXPECT_NEAR(tools::smearedHeavisideVolume(*big), exact, 1e-3 * exact);
+    EXPECT_EQ(tools::smearedHeavisideVolume(*big, 1.5, false),
+              tools::smearedHeavisideVolume(*big, 1.5, true));
 }
 
 TEST(EnrightTest, ShortRunReportsEveryFrame) {

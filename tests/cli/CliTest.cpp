@@ -6,7 +6,11 @@
 
 #include <vdb/io/File.h>
 #include <vdb/tools/Composite.h>
+#include <vdb/tools/Filter.h>
+#include <vdb/tools/GridOperators.h>
+#include <vdb/tools/LevelSetFilter.h>
 #include <vdb/tools/LevelSetSphere.h>
+#include <vdb/tools/LevelSetUtil.h>
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/tools/Morphology.h>
 #include <vdb/tools/ParticlesToLevelSet.h>
@@ -341,6 +345,134 @@ TEST_F(Cli, EnrightReportsFramesAndVolume) {
     EXPECT_NE(r.out.find("\"samples\""), std::string::npos) << r.out;
 }
 
+TEST_F(Cli, FilterSmoothsLevelSetsAndValueGridsAsTheLibraryDoes) {
+    auto sphere = writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    ok({"filter", path("s.vdb"), "-o", path("g.vdb"), "--op", "gaussian", "--width", "2"});
+    auto smoothed = gridPtrCast<FloatGrid>(readFirst(path("g.vdb")));
+    ASSERT_TRUE(smoothed);
+    auto expected = sphere->deepCopy();
+    tools::LevelSetFilter<FloatGrid>(*expected).gaussian(2);
+    expectSameVoxels(smoothed->tree(), expected->tree());
+
+    // A value grid: a mean filter, three iterations, over its active values only.
+    auto density = FloatGrid::create(0.0f);
+    density->setName("density");
+    for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j)
+            for (int k = 0; k < 12; ++k)
+                density->tree().setValue(Coord(i, j, k), float((i * 7 + j * 3 + k) % 5));
+    io::File(path("d.vdb")).write(GridPtrVec{density});
+    ok({"filter", path("d.vdb"), "-o", path("dm.vdb"), "--op", "mean", "--iterations", "3"});
+    auto mean = gridPtrCast<FloatGrid>(readFirst(path("dm.vdb")));
+    ASSERT_TRUE(mean);
+    tools::Filter<FloatGrid>(*density).mean(1, 3);
+    expectSameVoxels(mean->tree(), density->tree());
+}
+
+TEST_F(Cli, FilterOffsetMovesTheSurfaceOutwardsForPositiveAmounts) {
+    writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    ok({"filter", path("s.vdb"), "-o", path("o.vdb"), "--op", "offset", "--amount", "0.2"});
+    auto grid = gridPtrCast<FloatGrid>(readFirst(path("o.vdb")));
+    ASSERT_TRUE(grid);
+    // The surface now crosses the x axis at 1.2 (voxel 12), within a hundredth of a voxel.
+    EXPECT_NEAR(grid->tree().getValue(Coord(12, 0, 0)), 0.0f, 0.001f);
+    EXPECT_NEAR(grid->tree().getValue(Coord(0, -12, 0)), 0.0f, 0.001f);
+    EXPECT_EQ(grid->getGridClass(), GRID_LEVEL_SET);
+}
+
+TEST_F(Cli, MeasureReportsTheAnalyticAreaVolumeAndGenusOfASphere) {
+    const double r = 1.0;
+    writeSphere("s.vdb", float(r), Vec3f(0.0f));
+    const Result json = ok({"measure", path("s.vdb"), "--json"});
+    const double pi = std::numbers::pi;
+    EXPECT_NEAR(jsonNumber(json.out, "area"), 4 * pi * r * r, 0.01 * 4 * pi) << json.out;
+    EXPECT_NEAR(jsonNumber(json.out, "volume"), 4.0 / 3.0 * pi, 0.01 * 4.0 / 3.0 * pi);
+    EXPECT_NEAR(jsonNumber(json.out, "averageMeanCurvature"), 1.0 / r, 0.02);
+    EXPECT_EQ(jsonNumber(json.out, "eulerCharacteristic"), 2.0);
+    EXPECT_EQ(jsonNumber(json.out, "genus"), 0.0);
+    const Result text = ok({"measure", path("s.vdb")});
+    EXPECT_NE(text.out.find("genus 0"), std::string::npos) << text.out;
+}
+
+TEST_F(Cli, StatsReportsTheValuesAndTheirHistogram) {
+    // Active values 1, 2, 3, 4 (one each) and an inactive 100 that must not count.
+    auto grid = FloatGrid::create(0.0f);
+    grid->setName("v");
+    for (int i = 1; i <= 4; ++i)
+        grid->tree().setValue(Coord(i, 0, 0), float(i));
+    grid->tree().setValueOff(Coord(9, 0, 0), 100.0f);
+    io::File(path("v.vdb")).write(GridPtrVec{grid});
+    const Result json = ok({"stats", path("v.vdb"), "--bins", "2", "--json"});
+    EXPECT_EQ(jsonNumber(json.out, "count"), 4.0) << json.out;
+    EXPECT_EQ(jsonNumber(json.out, "min"), 1.0);
+    EXPECT_EQ(jsonNumber(json.out, "max"), 4.0);
+    EXPECT_EQ(jsonNumber(json.out, "mean"), 2.5);
+    EXPECT_NEAR(jsonNumber(json.out, "stdDev"), std::sqrt(1.25), 1e-12);
+    // Two bins, [1, 2.5) and [2.5, 4]: two values each.
+    const size_t hist = json.out.find("\"histogram\"");
+    ASSERT_NE(hist, std::string::npos);
+    EXPECT_EQ(jsonNumber(json.out.substr(hist), "count"), 2.0);
+    const size_t second = json.out.find("\"count\"", json.out.find("\"count\"", hist) + 1);
+    ASSERT_NE(second, std::string::npos);
+    EXPECT_EQ(jsonNumber(json.out.substr(second), "count"), 2.0);
+}
+
+TEST_F(Cli, OperatorsAndFogWriteWhatTheLibraryComputes) {
+    auto sphere = writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    ok({"gradient", path("s.vdb"), "-o", path("g.vdb")});
+    auto gradient = gridPtrCast<Vec3SGrid>(readFirst(path("g.vdb")));
+    ASSERT_TRUE(gradient);
+    EXPECT_EQ(gradient->getName(), "sphere_gradient");
+    expectSameVoxels(gradient->tree(), tools::gradient(*sphere)->tree());
+
+    ok({"laplacian", path("s.vdb"), "-o", path("l.vdb")});
+    auto laplacian = gridPtrCast<FloatGrid>(readFirst(path("l.vdb")));
+    ASSERT_TRUE(laplacian);
+    expectSameVoxels(laplacian->tree(), tools::laplacian(*sphere)->tree());
+
+    ok({"divergence", path("g.vdb"), "-o", path("d.vdb")});
+    auto divergence = gridPtrCast<FloatGrid>(readFirst(path("d.vdb")));
+    ASSERT_TRUE(divergence);
+    EXPECT_EQ(divergence->getName(), "sphere_gradient_divergence");
+    expectSameVoxels(divergence->tree(), tools::divergence(*gradient)->tree());
+
+    ok({"curl", path("g.vdb"), "-o", path("c.vdb")});
+    auto curl = gridPtrCast<Vec3SGrid>(readFirst(path("c.vdb")));
+    ASSERT_TRUE(curl);
+    expectSameVoxels(curl->tree(), tools::curl(*gradient)->tree());
+
+    ok({"fog", path("s.vdb"), "-o", path("f.vdb")});
+    auto fog = gridPtrCast<FloatGrid>(readFirst(path("f.vdb")));
+    ASSERT_TRUE(fog);
+    EXPECT_EQ(fog->getGridClass(), GRID_FOG_VOLUME);
+    auto expected = sphere->deepCopy();
+    tools::sdfToFogVolume(*expected);
+    expectSameVoxels(fog->tree(), expected->tree());
+    EXPECT_EQ(fog->tree().getValue(Coord(0)), 1.0f);  // the centre: deep inside
+}
+
+TEST_F(Cli, ToolboxCommandsRefuseBadInputs) {
+    writeSphere("s.vdb", 1.0f, Vec3f(0.0f));
+    auto vectors = Vec3SGrid::create(Vec3s(0.0f));
+    vectors->setName("vel");
+    vectors->tree().setValueOn(Coord(1, 2, 3), Vec3s(1.0f, 0.0f, 0.0f));
+    io::File(path("vel.vdb")).write(GridPtrVec{vectors});
+    const std::string out = path("out.vdb");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--width", "0"}, 2, "--width");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--width", "1000000"}, 2, "--width");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "median", "--width", "100"}, 2, "median");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "offset"}, 2, "--amount");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "mean", "--amount", "1"}, 2, "--amount");
+    fails({"filter", path("s.vdb"), "-o", out, "--op", "blur"}, 2, "blur");
+    fails({"filter", path("vel.vdb"), "-o", out, "--op", "curvature"}, 2, "level set");
+    fails({"filter", path("vel.vdb"), "-o", out, "--op", "median", "--grid", "vel"}, 2, "vec3s");
+    fails({"gradient", path("vel.vdb"), "-o", out, "--grid", "vel"}, 2, "vec3s");
+    fails({"curl", path("s.vdb"), "-o", out}, 2, "vec3s");
+    fails({"measure", path("vel.vdb")}, 2, "level set");
+    fails({"fog", path("vel.vdb"), "-o", out}, 2, "level set");
+    fails({"stats", path("missing.vdb")}, 1, "missing.vdb");
+}
+
 TEST_F(Cli, BadGeometryInputsGiveOneErrorLineAndNoOutput) {
     const std::string out = path("out.vdb");
     {
@@ -378,8 +510,9 @@ TEST_F(Cli, BadGeometryInputsGiveOneErrorLineAndNoOutput) {
 
 TEST_F(Cli, EveryCommandHasHelpWithExamples) {
     for (const std::string cmd :
-         {"info", "sphere", "spheres", "mesh", "morph", "floodfill", "prune", "csg", "convert",
-          "advect", "enright", "render", "demo"}) {
+         {"info", "sphere",  "spheres", "mesh",     "morph",     "floodfill",  "prune",
+          "csg",  "convert", "advect",  "enright",  "render",    "demo",       "filter",
+          "fog",  "measure", "stats",   "gradient", "laplacian", "divergence", "curl"}) {
         const Result r = ok({cmd, "--help"});
         EXPECT_NE(r.out.find("Example"), std::string::npos) << cmd;
         EXPECT_NE(r.out.find("--threads"), std::string::npos) << cmd;

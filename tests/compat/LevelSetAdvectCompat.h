@@ -52,13 +52,13 @@ inline FloatGrid::Ptr toVdbGrid(const openvdb::FloatGrid& in) {
 /// three steps per rebuild) and the CFL number OpenVDB fixes for TVD-RK3, 1/sqrt(3) (so both
 /// take about as many steps, hence as many rebuilds), and expects this library's relative
 /// volume loss to be at most OpenVDB's plus 0.002 (0.2 percentage points). Both volumes are
-/// measured by tools::levelSetVolume. With `intervals` > 1 both libraries are called once per
-/// equal interval of [0, end] (as a caller writing that many frames would): OpenVDB sizes each
+/// measured by tools::smearedHeavisideVolume. With `intervals` > 1 both libraries are called once
+/// per equal interval of [0, end] (as a caller writing that many frames would): OpenVDB sizes each
 /// step by the speed at its start and keeps that velocity for the step, so in one call over a
 /// reversal of the field (t = 1.5) it takes a few long steps that skip part of the flow.
 inline void expectEnrightVolumeLossNoWorseThanOpenVdb(int res, double end, int intervals = 1) {
     auto p = enrightSpheres(res);
-    const double v0 = tools::levelSetVolume(*p.ours);
+    const double v0 = tools::smearedHeavisideVolume(*p.ours);
 
     tools::EnrightTestOptions options;
     options.resolution = res;
@@ -78,7 +78,7 @@ inline void expectEnrightVolumeLossNoWorseThanOpenVdb(int res, double end, int i
     theirs.setNormCount(3);
     for (int f = 0; f < intervals; ++f)
         theirs.advect(end * f / intervals, end * (f + 1) / intervals);
-    const double theirLoss = (v0 - tools::levelSetVolume(*toVdbGrid(*p.theirs))) / v0;
+    const double theirLoss = (v0 - tools::smearedHeavisideVolume(*toVdbGrid(*p.theirs))) / v0;
     ::testing::Test::RecordProperty("vdb_volume_loss", std::to_string(ours.volumeLoss()));
     ::testing::Test::RecordProperty("openvdb_volume_loss", std::to_string(theirLoss));
     EXPECT_LE(ours.volumeLoss(), theirLoss + 0.002)

@@ -2,12 +2,15 @@
 /// @file
 /// Finite differences for level sets (paper 3.4 and 4.2): one-sided first, second and third
 /// order differences, Hamilton-Jacobi WENO5 (Jiang and Peng 2000), Godunov's upwind norm of the
-/// gradient for the Eikonal equation, and the scheme enums with OpenVDB's names.
+/// gradient for the Eikonal equation, and the scheme enums with OpenVDB's names; then the
+/// second-order central differences of the operators (gradient, divergence, curl, Laplacian)
+/// and Goldman's mean and Gaussian curvatures of implicit surfaces.
 ///
-/// Everything works on one axis at a time, on a line of 7 samples centred on the voxel of
-/// interest: `line[3]` is the centre, `line[3 + d]` the sample d voxels along the axis. The
-/// differences are in index space (divide by the voxel size for world units). Costs are a few
-/// dozen flops per axis; nothing allocates.
+/// The upwind schemes work on one axis at a time, on a line of 7 samples centred on the voxel
+/// of interest: `line[3]` is the centre, `line[3 + d]` the sample d voxels along the axis. The
+/// central differences read a neighbourhood through a callable `at(i, j, k)`. All differences
+/// are in index space (divide by the voxel size for world units). Costs are a few dozen flops
+/// per axis; nothing allocates.
 ///
 /// @code
 /// std::array<float, 7> line = ...;                                   // phi(i-3) .. phi(i+3)
@@ -17,6 +20,8 @@
 /// @endcode
 
 #pragma once
+
+#include <vdb/math/Math.h>
 
 #include <algorithm>
 #include <cmath>
@@ -171,16 +176,109 @@ inline T godunovNormSqrd(bool outside, T dmx, T dpx, T dmy, T dpy, T dmz, T dpz)
            std::max(std::min(dmz, z) * std::min(dmz, z), std::max(dpz, z) * std::max(dpz, z));
 }
 
-/// Second-order central first derivative at `line[3]`.
-template <typename T>
-inline T centralDifference(const T* line) {
-    return T(0.5) * (line[4] - line[2]);
+/// Difference formulas on a point's neighbourhood, read through `at(i, j, k)`: the value at
+/// offset (i, j, k) from the point (a stencil, a dense block of a leaf's neighbourhood). Values
+/// may be scalars or vectors; everything is in index space (divide by the voxel size, or apply
+/// the transform's inverse Jacobian, for world units).
+
+/// The point one step along `axis` (0, 1, 2 for x, y, z) in direction `d` (-1 or +1).
+template <int Axis, typename AtT>
+inline auto atStep(const AtT& at, int d) {
+    return at(Axis == 0 ? d : 0, Axis == 1 ? d : 0, Axis == 2 ? d : 0);
 }
 
-/// Second-order central second derivative at `line[3]`.
+/// Second-order central first difference along `Axis`: (f(+1) - f(-1)) / 2.
+template <int Axis, typename AtT>
+inline auto centralDiff(const AtT& at) {
+    return (atStep<Axis>(at, 1) - atStep<Axis>(at, -1)) * 0.5f;
+}
+
+/// First-order forward difference along `Axis`: f(+1) - f(0) (the staggered, MAC-grid
+/// difference: a face value at i stands between cells i - 1 and i).
+template <int Axis, typename AtT>
+inline auto forwardDiff(const AtT& at) {
+    return atStep<Axis>(at, 1) - at(0, 0, 0);
+}
+
+/// Second-order central second difference along `Axis`: f(+1) + f(-1) - 2 f(0).
+template <int Axis, typename AtT>
+inline auto centralDiff2(const AtT& at) {
+    return atStep<Axis>(at, 1) + atStep<Axis>(at, -1) - at(0, 0, 0) * 2.0f;
+}
+
+/// Second-order central mixed difference in axes `A` and `B` (A != B):
+/// (f(+1,+1) + f(-1,-1) - f(+1,-1) - f(-1,+1)) / 4.
+template <int A, int B, typename AtT>
+inline auto centralDiffMixed(const AtT& at) {
+    const auto f = [&at](int a, int b) {
+        int o[3] = {0, 0, 0};
+        o[A] = a;
+        o[B] = b;
+        return at(o[0], o[1], o[2]);
+    };
+    return (f(1, 1) + f(-1, -1) - f(1, -1) - f(-1, 1)) * 0.25f;
+}
+
+/// The second-order central Laplacian: the sum of the six face neighbours minus 6 f(0).
+template <typename AtT>
+inline auto centralLaplacian(const AtT& at) {
+    return centralDiff2<0>(at) + centralDiff2<1>(at) + centralDiff2<2>(at);
+}
+
+/// The first and second derivatives of a scalar field at one point: the gradient (dx, dy, dz)
+/// and the Hessian's six distinct entries. From centralDerivatives() they are in index space;
+/// scaled by a transform (tools/GridOperators.h) they are in world space.
 template <typename T>
-inline T secondDifference(const T* line) {
-    return line[4] + line[2] - T(2) * line[3];
+struct Derivatives {
+    T dx, dy, dz;
+    T dxx, dyy, dzz;
+    T dxy, dxz, dyz;
+};
+
+/// The second-order central differences at a point of the 19-point curvature stencil (the
+/// centre, its 6 face and its 12 edge neighbours), in precision `T`.
+template <typename T, typename AtT>
+inline Derivatives<T> centralDerivatives(const AtT& at) {
+    const auto f = [&at](int i, int j, int k) { return T(at(i, j, k)); };
+    return {centralDiff<0>(f),         centralDiff<1>(f),         centralDiff<2>(f),
+            centralDiff2<0>(f),        centralDiff2<1>(f),        centralDiff2<2>(f),
+            centralDiffMixed<0, 1>(f), centralDiffMixed<0, 2>(f), centralDiffMixed<1, 2>(f)};
+}
+
+/// The two parts of the mean curvature H = div(grad f / |grad f|) / 2 = alpha / (2 |grad f|^3)
+/// and of the Gaussian curvature K = alphaG / |grad f|^4 (Goldman's formulas for the curvatures
+/// of an implicit surface), from the derivatives `d`: `alphaM`, `alphaG` and `normGrad` =
+/// |grad f|. False, with all three 0, where |grad f|^2 is at most `tolerance` (OpenVDB's: 1e-15
+/// in double, 1e-8 in float; the surface has no normal there). The units follow `d`'s: index or
+/// world space.
+template <typename T>
+inline bool curvatureTerms(const Derivatives<T>& d, T& alphaM, T& alphaG, T& normGrad,
+                           T tolerance = Tolerance<T>::value()) {
+    const T x2 = d.dx * d.dx, y2 = d.dy * d.dy, z2 = d.dz * d.dz;
+    const T g2 = x2 + y2 + z2;
+    if (!(g2 > tolerance)) {
+        alphaM = alphaG = normGrad = T(0);
+        return false;
+    }
+    alphaM = x2 * (d.dyy + d.dzz) + y2 * (d.dxx + d.dzz) + z2 * (d.dxx + d.dyy) -
+             T(2) * (d.dx * (d.dy * d.dxy + d.dz * d.dxz) + d.dy * d.dz * d.dyz);
+    alphaG = x2 * (d.dyy * d.dzz - d.dyz * d.dyz) + y2 * (d.dxx * d.dzz - d.dxz * d.dxz) +
+             z2 * (d.dxx * d.dyy - d.dxy * d.dxy) +
+             T(2) * (d.dy * d.dz * (d.dxy * d.dxz - d.dyz * d.dxx) +
+                     d.dx * d.dz * (d.dxy * d.dyz - d.dxz * d.dyy) +
+                     d.dx * d.dy * (d.dxz * d.dyz - d.dxy * d.dzz));
+    normGrad = std::sqrt(g2);
+    return true;
+}
+
+/// The mean curvature alpha / (2 |grad f|^3) of the level sets of the field with derivatives
+/// `d` (1/R on a sphere of radius R; 0 where the gradient vanishes), in d's units.
+template <typename T>
+inline T meanCurvature(const Derivatives<T>& d) {
+    T alphaM, alphaG, normGrad;
+    if (!curvatureTerms(d, alphaM, alphaG, normGrad))
+        return T(0);
+    return alphaM / (T(2) * normGrad * normGrad * normGrad);
 }
 
 }  // namespace vdb::math

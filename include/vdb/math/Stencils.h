@@ -12,11 +12,13 @@
 ///   laplacian, zero crossing.
 /// - WenoStencil: the centre and 3 neighbours each way along each axis (19 points); upwind
 ///   HJ-WENO5 gradient and Godunov's |grad phi|^2 for the Eikonal equation.
-/// - CurvatureStencil: the centre, 6 face and 12 edge neighbours (19 points); mean curvature.
+/// - CurvatureStencil: the centre, 6 face and 12 edge neighbours (19 points); mean and Gaussian
+///   curvature.
 /// - BoxStencil: the 8 corners of the cell around a fractional index-space point; trilinear
 ///   interpolation.
 ///
-/// Derivatives are in world units for grids with a uniform voxel size (voxelSize()[0]).
+/// Derivatives are in world units for grids with a uniform voxel size (voxelSize()[0]); the
+/// formulas are those of FiniteDifference.h, which the leaf-block kernels of the tools share.
 /// Threads: a stencil holds an accessor, so use one stencil per thread.
 ///
 /// @code
@@ -121,11 +123,12 @@ public:
         : Base(grid, {Coord(0), Coord(-1, 0, 0), Coord(1, 0, 0), Coord(0, -1, 0), Coord(0, 1, 0),
                       Coord(0, 0, -1), Coord(0, 0, 1)}) {}
 
-    /// Second-order central gradient.
+    /// Second-order central gradient (world units).
     VecType gradient() const {
-        const auto& v = this->mValues;
-        const ValueType s = ValueType(0.5) / this->mDx;
-        return VecType(v[2] - v[1], v[4] - v[3], v[6] - v[5]) * s;
+        const auto at = [this](int i, int j, int k) { return this->mValues[pos(i, j, k)]; };
+        return VecType(math::centralDiff<0>(at), math::centralDiff<1>(at),
+                       math::centralDiff<2>(at)) /
+               this->mDx;
     }
     /// The unit normal: the gradient normalised (zero where the gradient vanishes).
     VecType normal() const {
@@ -134,11 +137,14 @@ public:
             return VecType(ValueType(0));
         return g;
     }
-    /// Second-order central laplacian.
+    /// Second-order central laplacian (world units).
     ValueType laplacian() const {
-        const auto& v = this->mValues;
-        return (v[1] + v[2] + v[3] + v[4] + v[5] + v[6] - ValueType(6) * v[0]) /
-               (this->mDx * this->mDx);
+        const auto at = [this](int i, int j, int k) { return this->mValues[pos(i, j, k)]; };
+        return math::centralLaplacian(at) / (this->mDx * this->mDx);
+    }
+    /// The stencil's index of the point at offset (i, j, k). @pre a face neighbour or the centre
+    static constexpr size_t pos(int i, int j, int k) {
+        return i != 0 ? (i < 0 ? 1 : 2) : j != 0 ? (j < 0 ? 3 : 4) : k != 0 ? (k < 0 ? 5 : 6) : 0;
     }
     /// True when the centre and one of its face neighbours lie on opposite sides of zero.
     bool zeroCrossing() const {
@@ -238,46 +244,71 @@ public:
 
     /// Second-order central gradient (world units).
     VecType gradient() const {
-        const ValueType s = ValueType(0.5) / this->mDx;
-        return VecType(at(1, 0, 0) - at(-1, 0, 0), at(0, 1, 0) - at(0, -1, 0),
-                       at(0, 0, 1) - at(0, 0, -1)) *
-               s;
+        const auto d = derivatives();
+        return VecType(ValueType(d.dx), ValueType(d.dy), ValueType(d.dz)) / this->mDx;
     }
     /// Second-order central laplacian (world units).
     ValueType laplacian() const {
-        ValueType sum = -ValueType(6) * at(0, 0, 0);
-        for (int a = 0; a < 3; ++a) {
-            Coord e(0);
-            e[size_t(a)] = 1;
-            sum += at(e[0], e[1], e[2]) + at(-e[0], -e[1], -e[2]);
-        }
-        return sum / (this->mDx * this->mDx);
+        const auto at = [this](int i, int j, int k) { return this->mValues[pos(i, j, k)]; };
+        return math::centralLaplacian(at) / (this->mDx * this->mDx);
     }
     /// Mean curvature H = div(grad phi / |grad phi|) / 2 (world units: 1/R on a sphere of radius
     /// R), from second-order central differences; 0 where the gradient vanishes.
     ValueType meanCurvature() const {
-        const ValueType c = at(0, 0, 0);
-        const ValueType px = ValueType(0.5) * (at(1, 0, 0) - at(-1, 0, 0));
-        const ValueType py = ValueType(0.5) * (at(0, 1, 0) - at(0, -1, 0));
-        const ValueType pz = ValueType(0.5) * (at(0, 0, 1) - at(0, 0, -1));
-        const ValueType pxx = at(1, 0, 0) + at(-1, 0, 0) - ValueType(2) * c;
-        const ValueType pyy = at(0, 1, 0) + at(0, -1, 0) - ValueType(2) * c;
-        const ValueType pzz = at(0, 0, 1) + at(0, 0, -1) - ValueType(2) * c;
-        const ValueType q = ValueType(0.25);
-        const ValueType pxy = q * (at(1, 1, 0) - at(1, -1, 0) - at(-1, 1, 0) + at(-1, -1, 0));
-        const ValueType pxz = q * (at(1, 0, 1) - at(1, 0, -1) - at(-1, 0, 1) + at(-1, 0, -1));
-        const ValueType pyz = q * (at(0, 1, 1) - at(0, 1, -1) - at(0, -1, 1) + at(0, -1, -1));
-        const ValueType g2 = px * px + py * py + pz * pz;
-        if (!(g2 > ValueType(0)))
+        double alphaM, alphaG, normGrad;
+        if (!math::curvatureTerms(derivatives(), alphaM, alphaG, normGrad))
             return ValueType(0);
-        const ValueType num = (pyy + pzz) * px * px + (pxx + pzz) * py * py +
-                              (pxx + pyy) * pz * pz -
-                              ValueType(2) * (px * py * pxy + px * pz * pxz + py * pz * pyz);
-        return num / (ValueType(2) * g2 * std::sqrt(g2) * this->mDx);
+        return ValueType(alphaM / (2.0 * normGrad * normGrad * normGrad * double(this->mDx)));
+    }
+    /// Gaussian curvature K (world units: 1/R^2 on a sphere of radius R); 0 where the gradient
+    /// vanishes.
+    ValueType gaussianCurvature() const {
+        double alphaM, alphaG, normGrad;
+        if (!math::curvatureTerms(derivatives(), alphaM, alphaG, normGrad))
+            return ValueType(0);
+        const double dx = double(this->mDx);
+        return ValueType(alphaG / (normGrad * normGrad * normGrad * normGrad * dx * dx));
+    }
+    /// Both curvatures at once (world units); both 0 where the gradient vanishes.
+    void curvatures(ValueType& mean, ValueType& gauss) const {
+        double alphaM, alphaG, normGrad;
+        if (!math::curvatureTerms(derivatives(), alphaM, alphaG, normGrad)) {
+            mean = gauss = ValueType(0);
+            return;
+        }
+        const double dx = double(this->mDx), g3 = normGrad * normGrad * normGrad;
+        mean = ValueType(alphaM / (2.0 * g3 * dx));
+        gauss = ValueType(alphaG / (g3 * normGrad * dx * dx));
+    }
+    /// The mean curvature times |grad phi| (world units), the speed of mean-curvature flow.
+    ValueType meanCurvatureNormGrad() const {
+        double alphaM, alphaG, normGrad;
+        if (!math::curvatureTerms(derivatives(), alphaM, alphaG, normGrad))
+            return ValueType(0);
+        const double dx = double(this->mDx);
+        return ValueType(alphaM / (2.0 * normGrad * normGrad * dx * dx));
+    }
+    /// The index-space central derivatives at the centre, in double precision.
+    math::Derivatives<double> derivatives() const {
+        return math::centralDerivatives<double>(
+            [this](int i, int j, int k) { return this->mValues[pos(i, j, k)]; });
+    }
+    /// The stencil's index of the point at offset (i, j, k). @pre a point of the stencil
+    static constexpr size_t pos(int i, int j, int k) {
+        if (i == 0 || j == 0 || k == 0) {
+            const int zeros = (i == 0) + (j == 0) + (k == 0);
+            if (zeros >= 2)
+                return SevenPointStencil<GridT>::pos(i, j, k);
+        }
+        if (k == 0)
+            return 7 + size_t(i < 0) * 2 + size_t(j < 0);
+        if (j == 0)
+            return 11 + size_t(i < 0) * 2 + size_t(k < 0);
+        return 15 + size_t(j < 0) * 2 + size_t(k < 0);
     }
 
 private:
-    // Point order: centre, 6 faces, then the 12 edges.
+    // Point order: centre, 6 faces (as SevenPointStencil), then the 12 edges.
     static std::array<Coord, 19> offsets() {
         return {Coord(0),        Coord(-1, 0, 0), Coord(1, 0, 0),   Coord(0, -1, 0),
                 Coord(0, 1, 0),  Coord(0, 0, -1), Coord(0, 0, 1),   Coord(1, 1, 0),
@@ -285,7 +316,6 @@ private:
                 Coord(1, 0, -1), Coord(-1, 0, 1), Coord(-1, 0, -1), Coord(0, 1, 1),
                 Coord(0, 1, -1), Coord(0, -1, 1), Coord(0, -1, -1)};
     }
-    ValueType at(int i, int j, int k) const { return this->getValue(i, j, k); }
 };
 
 namespace detail {

@@ -7,8 +7,8 @@
 /// and after each frame. After a full period the sphere should be back where it started; the
 /// volume it lost measures the numerical dissipation of the schemes.
 ///
-/// levelSetVolume() measures the enclosed volume from the level set alone: the sum over every
-/// voxel (and tile) of a smeared Heaviside H(-phi) of width 1.5 voxels, times the voxel volume.
+/// The volume is smearedHeavisideVolume() (tools/LevelSetMeasure.h): the sum over every voxel
+/// (and tile) of a smeared Heaviside H(-phi) of width 1.5 voxels, times the voxel volume.
 ///
 /// The library never prints: the caller receives each sample (and the grid, to write frames).
 ///
@@ -29,15 +29,12 @@
 #include <vdb/Types.h>
 #include <vdb/math/FiniteDifference.h>
 #include <vdb/tools/LevelSetAdvect.h>
+#include <vdb/tools/LevelSetMeasure.h>
 #include <vdb/tools/LevelSetSphere.h>
 #include <vdb/tools/VelocityFields.h>
-#include <vdb/tree/LeafManager.h>
-#include <vdb/util/Parallel.h>
 
-#include <cmath>
 #include <cstddef>
 #include <functional>
-#include <numbers>
 
 namespace vdb::tools {
 
@@ -60,7 +57,7 @@ struct EnrightTestOptions {
 struct EnrightSample {
     double time = 0.0;
     size_t steps = 0;     ///< advection steps taken since t = 0
-    double volume = 0.0;  ///< levelSetVolume() of the grid
+    double volume = 0.0;  ///< smearedHeavisideVolume() of the grid
     Index64 activeVoxels = 0;
 };
 
@@ -72,12 +69,6 @@ struct EnrightResult {
     double volumeLoss() const { return (initial.volume - final.volume) / initial.volume; }
 };
 
-/// The volume inside the level set of `grid`: voxel volume times the sum over all voxels and
-/// tiles of a smeared Heaviside of -phi, H(x) = 1/2 + x/(2e) + sin(pi x/e)/(2 pi) for |x| < e,
-/// with e = `smearing` voxels. Deterministic for any thread count.
-template <typename GridT>
-double levelSetVolume(const GridT& grid, double smearing = 1.5, bool threaded = true);
-
 /// Runs the Enright test with `options`, calling `onSample(sample, grid)` at t = 0 and after
 /// each frame (the grid may be written to a file there).
 /// @throw ValueError for a resolution below 8, a non-positive end time or frame count.
@@ -87,51 +78,6 @@ EnrightResult runEnrightTest(
     const std::function<void(const EnrightSample&, const GridT&)>& onSample = {});
 
 // ---- Implementation ---------------------------------------------------------------------------
-
-namespace detail {
-
-/// The smeared inside fraction of a voxel with value `v`, for half width `e` (same units).
-inline double insideFraction(double v, double e) {
-    if (v <= -e)
-        return 1.0;
-    if (v >= e)
-        return 0.0;
-    const double x = -v;
-    return 0.5 + x / (2.0 * e) + std::sin(std::numbers::pi * x / e) / (2.0 * std::numbers::pi);
-}
-
-}  // namespace detail
-
-template <typename GridT>
-double levelSetVolume(const GridT& grid, double smearing, bool threaded) {
-    using TreeT = typename GridT::TreeType;
-    const double dx = grid.voxelSize()[0];
-    const double e = smearing * dx;
-    const tree::LeafManager<const TreeT> leaves(grid.tree());
-    double voxels = util::parallelReduce(
-        leaves.leafCount(), 0.0,
-        [&](size_t begin, size_t end) {
-            double sum = 0.0;
-            for (size_t i = begin; i < end; ++i) {
-                const auto& leaf = leaves.leaf(i);
-                for (Index n = 0; n < leaf.NUM_VALUES; ++n)
-                    sum += detail::insideFraction(double(leaf.getValue(n)), e);
-            }
-            return sum;
-        },
-        [](double a, double b) { return a + b; }, threaded, 64);
-    // Tiles: every value above the leaves stands for a cube of voxels.
-    for (auto it = grid.tree().cbeginValueAll(); it; ++it) {
-        if (it.getLevel() == 0)
-            continue;
-        CoordBBox box;
-        it.getBoundingBox(box);
-        const auto d = box.dim();
-        voxels += double(d[0]) * double(d[1]) * double(d[2]) *
-                  detail::insideFraction(double(it.getValue()), e);
-    }
-    return voxels * dx * dx * dx;
-}
 
 template <typename GridT>
 EnrightResult runEnrightTest(
@@ -156,7 +102,7 @@ EnrightResult runEnrightTest(
     EnrightSample sample;
     const auto measure = [&](double time) {
         sample.time = time;
-        sample.volume = levelSetVolume(*grid, 1.5, options.threaded);
+        sample.volume = smearedHeavisideVolume(*grid, 1.5, options.threaded);
         sample.activeVoxels = grid->activeVoxelCount();
         if (onSample)
             onSample(sample, *grid);
@@ -180,7 +126,6 @@ EnrightResult runEnrightTest(
 
 namespace vdb::tools {
 
-extern template double levelSetVolume(const FloatGrid&, double, bool);
 extern template EnrightResult runEnrightTest<FloatGrid>(
     const EnrightTestOptions&, const std::function<void(const EnrightSample&, const FloatGrid&)>&);
 

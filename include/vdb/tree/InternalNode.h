@@ -86,6 +86,12 @@ public:
     using LeafNodeType = typename ChildT::LeafNodeType;
     using ValueType = typename ChildT::ValueType;
     using BuildType = typename ChildT::BuildType;
+    /// The same node configuration with values of type `OtherValueT`.
+    template <typename OtherValueT>
+    struct ValueConverter {
+        using Type =
+            InternalNode<typename ChildT::template ValueConverter<OtherValueT>::Type, Log2Dim>;
+    };
 
     static constexpr Index LOG2DIM = Log2Dim;
     static constexpr Index TOTAL = Log2Dim + ChildT::TOTAL;         ///< log2 of the edge in voxels

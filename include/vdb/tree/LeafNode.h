@@ -77,6 +77,11 @@ public:
     using ValueType = ValueT;
     using BuildType = ValueT;
     using LeafNodeType = LeafNode;
+    /// The same node with values of type `OtherValueT` (OpenVDB's ValueConverter).
+    template <typename OtherValueT>
+    struct ValueConverter {
+        using Type = LeafNode<OtherValueT, Log2Dim>;
+    };
 
     static constexpr Index LOG2DIM = Log2Dim;
     static constexpr Index TOTAL = Log2Dim;  ///< log2 of the edge length in voxels

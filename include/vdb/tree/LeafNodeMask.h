@@ -22,6 +22,11 @@ public:
     using ValueType = bool;
     using BuildType = ValueMask;
     using LeafNodeType = LeafNode;
+    /// The same node with values of type `OtherValueT` (OpenVDB's ValueConverter).
+    template <typename OtherValueT>
+    struct ValueConverter {
+        using Type = LeafNode<OtherValueT, Log2Dim>;
+    };
 
     static constexpr Index LOG2DIM = Log2Dim;
     static constexpr Index TOTAL = Log2Dim;

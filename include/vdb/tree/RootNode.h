@@ -33,6 +33,11 @@ public:
     using LeafNodeType = typename ChildT::LeafNodeType;
     using ValueType = typename ChildT::ValueType;
     using BuildType = typename ChildT::BuildType;
+    /// The same node configuration with values of type `OtherValueT`.
+    template <typename OtherValueT>
+    struct ValueConverter {
+        using Type = RootNode<typename ChildT::template ValueConverter<OtherValueT>::Type, TableT>;
+    };
     using TablePolicy = TableT;
 
     static constexpr Index LEVEL = ChildT::LEVEL + 1;

@@ -75,6 +75,12 @@ public:
     using ValueType = typename TopT::ValueType;
     using BuildType = typename TopT::BuildType;
     using LeafNodeType = typename TopT::LeafNodeType;
+    /// The tree of the same configuration with values of type `OtherValueT` (OpenVDB's
+    /// ValueConverter): `FloatTree::ValueConverter<bool>::Type` is BoolTree.
+    template <typename OtherValueT>
+    struct ValueConverter {
+        using Type = Tree<typename TopT::template ValueConverter<OtherValueT>::Type>;
+    };
 
     static constexpr bool BOUNDED = !IS_ROOT_NODE<TopT>;
     static constexpr Index DEPTH = TopT::LEVEL + 1;  ///< number of levels, the top included

@@ -310,7 +310,10 @@ public:
     using ValueType = typename Walk::ValueType;
 
     TreeValueIterator() = default;
-    explicit TreeValueIterator(TreeT& tree) : mWalk(tree) {}
+    explicit TreeValueIterator(TreeT& tree) : mWalk(tree), mTree(&tree) {}
+
+    /// The tree the iterator walks. @pre the iterator was made from a tree
+    TreeT& getTree() const { return *mTree; }
 
     explicit operator bool() const { return !mWalk.done(); }
     bool test() const { return !mWalk.done(); }
@@ -400,6 +403,7 @@ public:
 
 private:
     Walk mWalk;
+    TreeT* mTree = nullptr;
 };
 
 /// Visits every leaf of a tree once: `for (auto it = tree.cbeginLeaf(); it; ++it) it->origin();`

@@ -48,11 +48,17 @@ T parallelReduce(size_t n, const T& identity, const MapT& map, const JoinT& join
     if (n == 0)
         return identity;
     if (!threaded) {
-        // Same blocking as the threaded path, so both give identical results.
-        T result = identity;
-        for (size_t b = 0; b < n; b += grain)
-            result = join(result, map(b, std::min(n, b + grain)));
-        return result;
+        // The threaded path's blocking and order of joins: halves split while longer than
+        // `grain` (as tbb::blocked_range splits), each leaf mapped from `identity`, siblings
+        // joined left to right; so both give identical results.
+        const auto reduce = [&](const auto& self, size_t b, size_t e) -> T {
+            if (e - b > grain) {
+                const size_t m = b + (e - b) / 2;
+                return join(self(self, b, m), self(self, m, e));
+            }
+            return join(identity, map(b, e));
+        };
+        return reduce(reduce, size_t(0), n);
     }
     return tbb::parallel_deterministic_reduce(
         tbb::blocked_range<size_t>(0, n, grain), identity,

@@ -9,7 +9,9 @@
 /// neighbours (up to 3 voxels deep) are copied once per leaf into a block of (8 + 6)^3 values,
 /// so that every stencil point of every voxel is a fixed offset into that block. The neighbours
 /// are found with one accessor lookup each (a leaf, or the tile value that stands for it), six
-/// per leaf instead of eighteen per voxel.
+/// per leaf instead of eighteen per voxel. NeighborhoodBlock does the same for blocks whose
+/// depth is chosen at run time (the filters, the grid operators and the measures), filling the
+/// edge and corner neighbours too when a stencil reads them.
 
 #pragma once
 
@@ -27,6 +29,55 @@
 #include <vector>
 
 namespace vdb::tools::detail {
+
+/// Copies into a dense block the part of the leaf-sized cell at `cellOrigin` that overlaps the
+/// block. The block holds the index box [lo, lo + dims) with strides (sx, sy, 1); the cell's
+/// values come from `src` (a leaf buffer, NUM_VALUES values in leaf order) or, when `src` is
+/// null, are all `tile` (the tile or background that stands for the cell). Rows along z are
+/// copied whole.
+template <typename LeafT, typename ValueT>
+void copyCellToBlock(const ValueT* src, const ValueT& tile, const Coord& cellOrigin,
+                     const Coord& lo, const Coord& dims, ValueT* block, int sx, int sy) {
+    constexpr int DIM = int(LeafT::DIM), LOG2 = int(LeafT::LOG2DIM);
+    int a0[3], a1[3];
+    for (int a = 0; a < 3; ++a) {
+        a0[a] = std::max(lo[a], cellOrigin[a]);
+        a1[a] = std::min(lo[a] + dims[a], cellOrigin[a] + DIM);
+        if (a0[a] >= a1[a])
+            return;
+    }
+    const int n = a1[2] - a0[2];
+    for (int x = a0[0]; x < a1[0]; ++x) {
+        for (int y = a0[1]; y < a1[1]; ++y) {
+            ValueT* dst = block + (x - lo[0]) * sx + (y - lo[1]) * sy + (a0[2] - lo[2]);
+            if (src) {
+                const int offset = ((x - cellOrigin[0]) << (2 * LOG2)) |
+                                   ((y - cellOrigin[1]) << LOG2) | (a0[2] - cellOrigin[2]);
+                std::memcpy(dst, src + offset, sizeof(ValueT) * size_t(n));
+            } else {
+                std::fill_n(dst, n, tile);
+            }
+        }
+    }
+}
+
+/// Copies the cell at `cellOrigin` from buffer `buf` of the leaf there, or from the tile value
+/// that stands for it, into the block (see copyCellToBlock()).
+/// @pre every leaf of the tree has at least buf + 1 buffers
+template <typename TreeT>
+void gatherCell(const tree::ValueAccessor<const TreeT>& acc, Index buf, const Coord& cellOrigin,
+                const Coord& lo, const Coord& dims, typename TreeT::ValueType* block, int sx,
+                int sy) {
+    using LeafT = typename TreeT::LeafNodeType;
+    using ValueT = typename TreeT::ValueType;
+    if (const LeafT* leaf = acc.probeConstLeaf(cellOrigin)) {
+        copyCellToBlock<LeafT>(leaf->buffer(buf).data(), ValueT{}, cellOrigin, lo, dims, block, sx,
+                               sy);
+    } else {
+        copyCellToBlock<LeafT, ValueT>(nullptr, acc.getValue(cellOrigin), cellOrigin, lo, dims,
+                                       block, sx, sy);
+    }
+}
 
 /// A leaf's values and the face slabs of its neighbours, `R` voxels deep, in one dense block.
 /// Only the cross-shaped part that axis-aligned stencils read is filled: the leaf and the six
@@ -51,51 +102,14 @@ public:
     /// Fills the block from buffer `buf` of `leaf` and of its face neighbours.
     /// @pre every leaf of the tree has at least buf + 1 buffers
     void gather(const LeafT& leaf, Index buf, const tree::ValueAccessor<const TreeT>& acc) {
-        const ValueT* src = leaf.buffer(buf).data();
-        for (int i = 0; i < DIM; ++i) {
-            for (int j = 0; j < DIM; ++j) {
-                std::memcpy(&mData[size_t(index(i, j, 0))], src + ((i << (2 * LOG2)) | (j << LOG2)),
-                            sizeof(ValueT) * DIM);
-            }
-        }
+        const Coord lo = leaf.origin().offsetBy(-R), dims(S);
+        copyCellToBlock<LeafT>(leaf.buffer(buf).data(), ValueT{}, leaf.origin(), lo, dims,
+                               mData.data(), SX, SY);
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = -1; side <= 1; side += 2) {
                 Coord o = leaf.origin();
                 o[size_t(axis)] += side * DIM;
-                // Slab coordinates along `axis`: [-R, 0) below the leaf, [DIM, DIM + R) above;
-                // the neighbour's local coordinate is the same modulo DIM.
-                const int lo = side < 0 ? -R : DIM;
-                if (const LeafT* nb = acc.probeConstLeaf(o)) {
-                    const ValueT* nsrc = nb->buffer(buf).data();
-                    for (int a = lo; a < lo + R; ++a) {
-                        const int la = a & (DIM - 1);
-                        for (int u = 0; u < DIM; ++u) {
-                            for (int v = 0; v < DIM; ++v) {
-                                int c[3];
-                                c[axis] = la;
-                                c[(axis + 1) % 3] = u;
-                                c[(axis + 2) % 3] = v;
-                                int p[3] = {c[0], c[1], c[2]};
-                                p[axis] = a;
-                                mData[size_t(index(p[0], p[1], p[2]))] =
-                                    nsrc[(c[0] << (2 * LOG2)) | (c[1] << LOG2) | c[2]];
-                            }
-                        }
-                    }
-                } else {
-                    const ValueT tile = acc.getValue(o);
-                    for (int a = lo; a < lo + R; ++a) {
-                        for (int u = 0; u < DIM; ++u) {
-                            for (int v = 0; v < DIM; ++v) {
-                                int p[3];
-                                p[axis] = a;
-                                p[(axis + 1) % 3] = u;
-                                p[(axis + 2) % 3] = v;
-                                mData[size_t(index(p[0], p[1], p[2]))] = tile;
-                            }
-                        }
-                    }
-                }
+                gatherCell(acc, buf, o, lo, dims, mData.data(), SX, SY);
             }
         }
     }
@@ -104,6 +118,89 @@ public:
 
 private:
     alignas(64) std::array<ValueT, size_t(S* S* S)> mData;
+};
+
+/// Which neighbouring cells a NeighborhoodBlock fills: the face neighbours only (axis-aligned
+/// stencils), or every neighbour (stencils with mixed terms, dense boxes).
+enum class BlockShape { Cross, Full };
+
+/// The values around one leaf-sized cell, `radius[a]` voxels deep on both sides along axis a,
+/// in a dense block whose size is chosen at run time (filters of any width). With
+/// BlockShape::Cross only the cell and the slabs of its face neighbours are filled (each slab
+/// may reach several cells away); the edge and corner regions are left unspecified.
+/// Threads: one block per thread; gather() reuses the storage.
+template <typename TreeT>
+class NeighborhoodBlock {
+public:
+    using LeafT = typename TreeT::LeafNodeType;
+    using ValueT = typename TreeT::ValueType;
+    static constexpr int DIM = int(LeafT::DIM);
+    static constexpr int LOG2 = int(LeafT::LOG2DIM);
+
+    NeighborhoodBlock(const Coord& radius, BlockShape shape) : mRadius(radius), mShape(shape) {
+        for (int a = 0; a < 3; ++a)
+            mDims[a] = DIM + 2 * radius[a];
+        mSy = mDims[2];
+        mSx = mDims[1] * mDims[2];
+        mData.resize(size_t(mDims[0]) * size_t(mSx));
+    }
+
+    /// Fills the block around the cell at `origin` from buffer `buf` of the leaves of `acc`'s
+    /// tree (tile values where there is no leaf). `leaf` is the leaf at `origin` when the caller
+    /// has it, else null (then it is looked up).
+    /// @pre every leaf of the tree has at least buf + 1 buffers
+    void gather(const Coord& origin, const LeafT* leaf, Index buf,
+                const tree::ValueAccessor<const TreeT>& acc) {
+        const Coord lo = origin - mRadius;
+        int reach[3];
+        for (int a = 0; a < 3; ++a)
+            reach[a] = (mRadius[a] + DIM - 1) / DIM;
+        for (int i = -reach[0]; i <= reach[0]; ++i) {
+            for (int j = -reach[1]; j <= reach[1]; ++j) {
+                for (int k = -reach[2]; k <= reach[2]; ++k) {
+                    const int offAxes = (i != 0) + (j != 0) + (k != 0);
+                    if (mShape == BlockShape::Cross && offAxes > 1)
+                        continue;
+                    const Coord cell = origin.offsetBy(i * DIM, j * DIM, k * DIM);
+                    if (offAxes == 0 && leaf) {
+                        copyCellToBlock<LeafT>(leaf->buffer(buf).data(), ValueT{}, cell, lo, mDims,
+                                               mData.data(), mSx, mSy);
+                    } else {
+                        gatherCell(acc, buf, cell, lo, mDims, mData.data(), mSx, mSy);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The block position of the cell-local voxel (i, j, k); each in [-radius, DIM + radius).
+    const ValueT* at(int i, int j, int k) const {
+        return mData.data() + (i + mRadius[0]) * mSx + (j + mRadius[1]) * mSy + (k + mRadius[2]);
+    }
+    /// The block position of the voxel at `offset` in the cell (leaf order).
+    const ValueT* atOffset(Index offset) const {
+        return at(int(offset >> (2 * LOG2)), int((offset >> LOG2) & (DIM - 1)),
+                  int(offset & (DIM - 1)));
+    }
+    /// Strides of x and y in the block (z's is 1).
+    int sx() const { return mSx; }
+    int sy() const { return mSy; }
+    const Coord& radius() const { return mRadius; }
+
+private:
+    Coord mRadius, mDims;
+    BlockShape mShape;
+    int mSx = 0, mSy = 0;
+    std::vector<ValueT> mData;
+};
+
+/// A view of a voxel's neighbourhood in a dense block: at(i, j, k) is the value at offset
+/// (i, j, k), for the difference formulas of math/FiniteDifference.h.
+template <typename ValueT>
+struct BlockPoint {
+    const ValueT* c;
+    int sx, sy;
+    ValueT operator()(int i, int j, int k) const { return c[i * sx + j * sy + k]; }
 };
 
 /// The 7 samples through `c` with stride `stride` (c[0] is the centre), reading only the
