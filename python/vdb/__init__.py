@@ -1,0 +1,22 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Sparse volumes after Museth's VDB, with pyopenvdb's names and bulk NumPy transfers.
+
+A script written for pyopenvdb ports by changing its import::
+
+    import vdb as openvdb
+
+Beyond pyopenvdb: every standard grid type (FloatGrid, DoubleGrid, Int32Grid, Int64Grid,
+BoolGrid, MaskGrid, Vec3SGrid, Vec3DGrid, Vec3IGrid), bulk transfers without per-voxel Python
+calls (``activeVoxels``, ``fromCoords``, ``leafValues``, ``leafBuffers``), and the C++ tools under
+``vdb.tools``. Long operations release the GIL.
+"""
+
+from . import _vdb
+from ._vdb import *  # noqa: F401,F403
+from ._vdb import tools  # noqa: F401
+
+__all__ = [name for name in dir(_vdb) if not name.startswith("_")]
+
+for _cls in [*GridTypes, GridBase, Transform, Metadata, Axis]:  # noqa: F405
+    _cls.__module__ = "vdb"
+del _cls
