@@ -229,18 +229,19 @@ void bindConvert(py::module_& m) {
             py::arg("xyz"), "voxelVolume((i, j, k)) -> float")
         .def(
             "rotate",
-            [](Transform& t, double radians, math::Axis axis) { t.postRotate(radians, axis); },
+            [](Transform& t, double radians, math::Axis axis) { t.preRotate(radians, axis); },
             py::arg("radians"), py::arg("axis") = math::Axis::X,
-            "rotate(radians, axis): accumulate a rotation about Axis.X, Axis.Y or Axis.Z.")
+            "rotate(radians, axis): accumulate a rotation about Axis.X, Axis.Y or Axis.Z, in "
+            "index space (before the map), as pyopenvdb does.")
         .def(
             "translate", [](Transform& t, const Vec3d& v) { t.postTranslate(v); }, py::arg("xyz"),
             "translate((x, y, z)): accumulate a translation.")
         .def(
-            "scale", [](Transform& t, double s) { t.postScale(s); }, py::arg("s"),
-            "scale(s): accumulate a uniform scale.")
+            "scale", [](Transform& t, double s) { t.preScale(s); }, py::arg("s"),
+            "scale(s): accumulate a uniform scale (in index space, as pyopenvdb does).")
         .def(
-            "scale", [](Transform& t, const Vec3d& s) { t.postScale(s); }, py::arg("s"),
-            "scale((sx, sy, sz)): accumulate a nonuniform scale.")
+            "scale", [](Transform& t, const Vec3d& s) { t.preScale(s); }, py::arg("s"),
+            "scale((sx, sy, sz)): accumulate a nonuniform scale (in index space).")
         .def(
             "matrix",
             [](const Transform& t) {

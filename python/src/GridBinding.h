@@ -152,9 +152,10 @@ ArrayBox<ValueT> arrayBox(py::handle obj, const Coord& origin, bool forWriting, 
 /// Checks an (N, 3) array of integer coordinates and returns them as int64, converting when
 /// needed. @throw TypeError for other dtypes, ValueError for other shapes.
 inline py::array_t<Int64, py::array::c_style> coordArray(py::handle obj, const char* op) {
-    if (!py::isinstance<py::array>(obj))
-        obj = py::module_::import("numpy").attr("asarray")(obj);
-    auto array = py::reinterpret_borrow<py::array>(obj);
+    py::object held = py::isinstance<py::array>(obj)
+                          ? py::reinterpret_borrow<py::object>(obj)
+                          : py::object(py::module_::import("numpy").attr("asarray")(obj));
+    auto array = py::reinterpret_borrow<py::array>(held);
     const char kind = array.dtype().kind();
     if (kind != 'i' && kind != 'u')
         throw py::type_error(std::string(op) + ": coordinates must be integers, got dtype " +
@@ -340,19 +341,36 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             const ValueT old = g.background();
             TreeT& tree = g.tree();
             py::gil_scoped_release release;
-            // Inactive values equal to the old background become the new one (pyopenvdb's
-            // meaning), in leaves and in tiles.
+            // pyopenvdb's meaning (OpenVDB's tools::changeBackground): inactive values equal to
+            // the old background become the new one, and for signed values, those equal to
+            // minus the old background become minus the new one; in leaves and in tiles.
+            const auto replacement = [&](const ValueT& v, ValueT& out) {
+                if (math::isApproxEqual(v, old, math::Tolerance<ValueT>::value())) {
+                    out = bg;
+                    return true;
+                }
+                if constexpr (!std::is_same_v<ValueT, bool> && std::is_signed_v<Scalar>) {
+                    if (math::isApproxEqual(v, ValueT(-old), math::Tolerance<ValueT>::value())) {
+                        out = ValueT(-bg);
+                        return true;
+                    }
+                }
+                return false;
+            };
             std::vector<Block<TreeT>> blocks = collectBlocks(tree, ValueFilter::Off, true);
             util::parallelFor(blocks.size(), [&](size_t i) {
                 if (LeafT* leaf = blocks[i].leaf) {
+                    ValueT out;
                     for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
-                        if (!leaf->isValueOn(n) && leaf->getValue(n) == old)
-                            leaf->setValueOnly(n, bg);
+                        if (!leaf->isValueOn(n) && replacement(ValueT(leaf->getValue(n)), out))
+                            leaf->setValueOnly(n, out);
                 }
             });
-            for (const auto& b : blocks)
-                if (!b.leaf && b.value == old)
-                    tree.addTile(b.level, b.origin, bg, false);
+            for (const auto& b : blocks) {
+                ValueT out;
+                if (!b.leaf && replacement(b.value, out))
+                    tree.addTile(b.level, b.origin, out, false);
+            }
             tree.setBackground(bg);
         },
         "value of this grid's background voxels; setting it also replaces the inactive values "

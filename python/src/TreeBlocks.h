@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
 /// The tree walks of the Python module, written once: the blocks of a tree (its leaves and its
-/// tiles, in the order of the tree's value iterators), the level at which a coordinate's value
+/// tiles, in OpenVDB's iteration order), the level at which a coordinate's value
 /// is stored, and the registry of trees whose leaf buffers NumPy arrays view.
 
 #pragma once
@@ -64,12 +64,13 @@ void visitNode(NodeT& node, ValueFilter filter, bool withLeaves, const FnT& fn) 
         if (withLeaves)
             fn(Block<TreeT>{node.origin(), 0, &node, ValueT{}, false});
     } else if constexpr (tree::IS_ROOT_NODE<NodeT>) {
-        for (auto c = node.cbegin(); node.valid(c); node.next(c)) {
-            auto& entry = node.entry(c);
+        // Root entries in (x, y, z) order, as OpenVDB's root map keeps them.
+        for (const Coord& key : node.sortedKeys()) {
+            auto& entry = *node.findEntry(key);
             if (entry.child)
                 visitNode<TreeT>(*entry.child, filter, withLeaves, fn);
             else if (tileSelected(entry.active))
-                fn(Block<TreeT>{node.key(c), NodeT::LEVEL, nullptr, entry.tile, entry.active});
+                fn(Block<TreeT>{key, NodeT::LEVEL, nullptr, entry.tile, entry.active});
         }
     } else {
         const uint64_t* children = node.getChildMask().words();
@@ -97,7 +98,8 @@ void visitNode(NodeT& node, ValueFilter filter, bool withLeaves, const FnT& fn) 
 }  // namespace detail
 
 /// Calls `fn(Block)` for every leaf (when `withLeaves`) and every tile selected by `filter`,
-/// in the order of the tree's value iterators.
+/// depth first: root entries in (x, y, z) order of their keys (OpenVDB's order; the C++
+/// iterators follow the hash table's), each node's table in offset order.
 /// The blocks point at the leaves without const: callers that read a const tree only read them.
 template <typename TreeT, typename FnT>
 void visitBlocks(TreeT& tree, ValueFilter filter, bool withLeaves, const FnT& fn) {

@@ -8,7 +8,11 @@ A script written for pyopenvdb ports by changing its import::
 Beyond pyopenvdb: every standard grid type (FloatGrid, DoubleGrid, Int32Grid, Int64Grid,
 BoolGrid, MaskGrid, Vec3SGrid, Vec3DGrid, Vec3IGrid), bulk transfers without per-voxel Python
 calls (``activeVoxels``, ``fromCoords``, ``leafValues``, ``leafBuffers``), and the C++ tools under
-``vdb.tools``. Long operations release the GIL.
+``vdb.tools``.
+
+Long operations release the GIL, so other Python threads run meanwhile. As in C++, reading one
+grid from several threads is safe, but a grid must not be changed by one thread while another
+reads or changes it.
 """
 
 from . import _vdb
