@@ -16,29 +16,38 @@ vdb_die() {
     exit 1
 }
 
-# Prints the packages of scripts/packages.txt that are not installed.
+# Prints the given packages (default: those of scripts/packages.txt) that are not installed.
 vdb_missing_packages() {
     local pkg status
     while read -r pkg; do
         status="$(dpkg-query -W -f='${db:Status-Status}' "$pkg" 2>/dev/null || true)"
         [[ "$status" == installed ]] || echo "$pkg"
-    done < <(sed -e 's/#.*//' -e 's/[[:space:]]//g' -e '/^$/d' "$VDB_ROOT/scripts/packages.txt")
+    done < <(if (($# > 0)); then
+        printf '%s\n' "$@"
+    else
+        sed -e 's/#.*//' -e 's/[[:space:]]//g' -e '/^$/d' "$VDB_ROOT/scripts/packages.txt"
+    fi)
 }
 
-# Installs the missing packages of scripts/packages.txt with apt-get, as root or
-# through sudo; does nothing (and needs no privileges) when all are present.
+# Installs the missing ones of the given packages (default: those of scripts/packages.txt)
+# with apt-get, as root or through sudo; does nothing (and needs no privileges) when all are
+# present.
 vdb_ensure_packages() {
     if ! command -v dpkg-query >/dev/null || ! command -v apt-get >/dev/null; then
         echo "Not a Debian system: skipping package installation." >&2
-        echo "Needed: $(sed -e 's/#.*//' -e '/^[[:space:]]*$/d' "$VDB_ROOT/scripts/packages.txt" |
-            tr '\n' ' ')" >&2
+        if (($# > 0)); then
+            echo "Needed: $*" >&2
+        else
+            echo "Needed: $(sed -e 's/#.*//' -e '/^[[:space:]]*$/d' "$VDB_ROOT/scripts/packages.txt" |
+                tr '\n' ' ')" >&2
+        fi
         return 0
     fi
 
     local -a missing
-    mapfile -t missing < <(vdb_missing_packages)
+    mapfile -t missing < <(vdb_missing_packages "$@")
     if ((${#missing[@]} == 0)); then
-        echo "All packages of scripts/packages.txt are installed."
+        echo "All needed packages are installed."
         return 0
     fi
     echo "Installing ${#missing[@]} missing package(s): ${missing[*]}"
@@ -55,7 +64,7 @@ vdb_ensure_packages() {
     "${apt[@]}" update
     "${apt[@]}" install -y --no-install-recommends "${missing[@]}"
 
-    mapfile -t missing < <(vdb_missing_packages)
+    mapfile -t missing < <(vdb_missing_packages "$@")
     ((${#missing[@]} == 0)) || vdb_die "still missing after apt-get install: ${missing[*]}"
 }
 

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file
+/// Shared by the sources of the Python extension vdb._vdb: the conversions between Python
+/// objects and the library's vectors, coordinates, values and metadata, the NumPy dtype of each
+/// value type, and the declarations of the binding functions each source defines.
+
+#pragma once
+
+#include <vdb/Grid.h>
+#include <vdb/Metadata.h>
+#include <vdb/math/Coord.h>
+#include <vdb/math/Transform.h>
+#include <vdb/math/Vec3.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+namespace py = pybind11;
+
+namespace vdb::python {
+
+/// Reads `obj` as a sequence of exactly three items (a tuple, a list, a NumPy array...);
+/// false for anything else, strings included.
+bool sequence3(py::handle obj, py::object (&items)[3]);
+
+/// The Python integer `obj` (or an object with __index__) as an Int32.
+/// @throw IndexError when it lies outside [-2^31, 2^31 - 1], TypeError when not an integer.
+Int32 toInt32(py::handle obj);
+
+}  // namespace vdb::python
+
+namespace pybind11::detail {
+
+/// math::Vec3<T> from any sequence of three numbers, to a tuple.
+template <typename T>
+struct type_caster<vdb::math::Vec3<T>> {
+    PYBIND11_TYPE_CASTER(vdb::math::Vec3<T>, const_name("tuple[") + make_caster<T>::name +
+                                                 const_name(", ") + make_caster<T>::name +
+                                                 const_name(", ") + make_caster<T>::name +
+                                                 const_name("]"));
+    bool load(handle src, bool convert) {
+        py::object items[3];
+        if (!vdb::python::sequence3(src, items))
+            return false;
+        for (int i = 0; i < 3; ++i) {
+            make_caster<T> c;
+            if (!c.load(items[i], convert))
+                return false;
+            value[i] = cast_op<T>(c);
+        }
+        return true;
+    }
+    static handle cast(const vdb::math::Vec3<T>& v, return_value_policy, handle) {
+        return py::make_tuple(v[0], v[1], v[2]).release();
+    }
+};
+
+/// Coord from any sequence of three integers (IndexError beyond 32 bits), to a tuple.
+template <>
+struct type_caster<vdb::Coord> {
+    PYBIND11_TYPE_CASTER(vdb::Coord, const_name("tuple[int, int, int]"));
+    bool load(handle src, bool) {
+        py::object items[3];
+        if (!vdb::python::sequence3(src, items))
+            return false;
+        for (int i = 0; i < 3; ++i) {
+            if (!PyIndex_Check(items[i].ptr()) || PyBool_Check(items[i].ptr()))
+                return false;
+            value[i] = vdb::python::toInt32(items[i]);
+        }
+        return true;
+    }
+    static handle cast(const vdb::Coord& c, return_value_policy, handle) {
+        return py::make_tuple(c[0], c[1], c[2]).release();
+    }
+};
+
+}  // namespace pybind11::detail
+
+namespace vdb::python {
+
+// ---- Value types
+
+/// The NumPy element type and component count of a grid value type: float -> float32 x 1,
+/// Vec3s -> float32 x 3, bool -> bool x 1, ...
+template <typename ValueT>
+struct ValueTraits {
+    using Scalar = ValueT;
+    static constexpr int N = 1;
+    static Scalar* scalars(ValueT* v) { return v; }
+};
+template <typename T>
+struct ValueTraits<math::Vec3<T>> {
+    using Scalar = T;
+    static constexpr int N = 3;
+    static Scalar* scalars(math::Vec3<T>* v) { return reinterpret_cast<T*>(v); }
+};
+static_assert(sizeof(Vec3s) == 3 * sizeof(float) && sizeof(Vec3d) == 3 * sizeof(double) &&
+              sizeof(Vec3i) == 3 * sizeof(Int32));
+
+/// The NumPy dtype of grid values of type ValueT (of one component for vectors).
+template <typename ValueT>
+py::dtype scalarDtype() {
+    return py::dtype::of<typename ValueTraits<ValueT>::Scalar>();
+}
+
+/// A human-readable name of a Python object's type, for error messages.
+std::string typeNameOf(py::handle obj);
+
+/// Converts a Python value to ValueT with the rules of pybind11 (numbers to numbers, any
+/// sequence of three numbers to a vector). @throw TypeError naming `what` and the object.
+template <typename ValueT>
+ValueT toValue(py::handle obj, const char* what) {
+    py::detail::make_caster<ValueT> caster;
+    if (!caster.load(obj, true))
+        throw py::type_error(std::string(what) + ": expected a value of type " +
+                             std::string(typeName<ValueT>()) + ", got " + typeNameOf(obj));
+    return py::detail::cast_op<ValueT>(caster);
+}
+
+// ---- Metadata
+
+py::object metaToPython(const MetaValue& value);
+/// Python bool -> bool, int -> int32 or int64 by range, float -> double, str -> string,
+/// three ints -> vec3i, three numbers -> vec3d, vdb.Metadata -> its opaque value.
+/// @throw TypeError for other objects, ValueError for an int beyond 64 bits.
+MetaValue metaFromPython(py::handle obj);
+py::dict metaMapToDict(const MetaMap& map);
+/// Replaces the entries of `map` named by the keys of `dict`.
+void updateMetaMap(MetaMap& map, py::handle dict);
+
+// ---- Binding functions, one per source file
+
+void bindConvert(py::module_& m);
+void bindGridBase(py::module_& m);
+void bindFloatGrids(py::module_& m);
+void bindIntGrids(py::module_& m);
+void bindBoolGrids(py::module_& m);
+void bindVecGrids(py::module_& m);
+void bindIo(py::module_& m);
+void bindTools(py::module_& m, py::module_& tools);
+
+}  // namespace vdb::python
