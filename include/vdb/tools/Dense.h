@@ -42,7 +42,9 @@
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/Parallel.h>
 
+#include <algorithm>
 #include <array>
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -202,6 +204,12 @@ void copyToDense(const GridOrTreeT& sparse, DenseT& dense, bool serial) {
     using LeafT = typename TreeT::LeafNodeType;
     using DenseValueT = typename DenseT::ValueType;
     const std::vector<CoordBBox> blocks = detail::leafBlocks(dense.bbox(), Int32(LeafT::DIM));
+    using ValueT = typename TreeT::ValueType;
+    // Leaves with a plain value array are read row by row from it; bit leaves voxel by voxel.
+    constexpr bool kArrayLeaf = requires(const LeafT& leaf) {
+        { leaf.buffer(0).data() } -> std::same_as<const ValueT*>;
+    };
+    const std::ptrdiff_t step = dense.zStride();
     util::parallelForRange(
         blocks.size(),
         [&](size_t begin, size_t end) {
@@ -211,18 +219,29 @@ void copyToDense(const GridOrTreeT& sparse, DenseT& dense, bool serial) {
                 const LeafT* leaf = acc.probeConstLeaf(box.min());
                 const DenseValueT tile =
                     leaf ? DenseValueT{} : DenseValueT(acc.getValue(box.min()));
+                const Int32 depth = box.max()[2] - box.min()[2] + 1;
                 for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i)
                     for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j) {
                         DenseValueT* row = &dense.getValue(Coord(i, j, box.min()[2]));
-                        const std::ptrdiff_t step = dense.zStride();
                         if (!leaf) {
-                            for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k, row += step)
+                            for (Int32 k = 0; k < depth; ++k, row += step)
                                 *row = tile;
                             continue;
                         }
-                        Index n = LeafT::coordToOffset(Coord(i, j, box.min()[2]));
-                        for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k, row += step, ++n)
-                            *row = DenseValueT(leaf->getValue(n));
+                        const Index n = LeafT::coordToOffset(Coord(i, j, box.min()[2]));
+                        if constexpr (kArrayLeaf) {
+                            const ValueT* in = leaf->buffer(0).data() + n;
+                            if (step == 1) {
+                                for (Int32 k = 0; k < depth; ++k)
+                                    row[k] = DenseValueT(in[k]);
+                            } else {
+                                for (Int32 k = 0; k < depth; ++k, row += step)
+                                    *row = DenseValueT(in[k]);
+                            }
+                        } else {
+                            for (Int32 k = 0; k < depth; ++k, row += step)
+                                *row = DenseValueT(leaf->getValue(n + Index(k)));
+                        }
                     }
             }
         },
@@ -236,6 +255,12 @@ void copyFromDense(const DenseT& dense, GridOrTreeT& sparse,
     using TreeT = std::remove_cvref_t<decltype(tree)>;
     using LeafT = typename TreeT::LeafNodeType;
     using ValueT = typename TreeT::ValueType;
+    using Word = typename LeafT::MaskType::Word;
+    // Leaves with a plain value array are written in one pass; bit leaves voxel by voxel.
+    constexpr bool kArrayLeaf = requires(LeafT & leaf) {
+        { leaf.buffer(0).data() } -> std::same_as<ValueT*>;
+        leaf.setBufferCount(1);
+    };
     struct Block {
         CoordBBox box;
         std::unique_ptr<LeafT> leaf;  // the block as a leaf, or null for a tile
@@ -246,45 +271,81 @@ void copyFromDense(const DenseT& dense, GridOrTreeT& sparse,
     const std::vector<CoordBBox> boxes = detail::leafBlocks(dense.bbox(), Int32(LeafT::DIM));
     std::vector<Block> blocks(boxes.size());
     const ValueT background = tree.background();
+    const std::ptrdiff_t zStride = dense.zStride();
     util::parallelForRange(
         blocks.size(),
         [&](size_t begin, size_t end) {
             tree::ValueAccessor<const TreeT> acc(tree);
+            // A block that comes out constant leaves its leaf here for the next block.
+            std::unique_ptr<LeafT> scratch;
             for (size_t b = begin; b < end; ++b) {
                 Block& block = blocks[b];
                 block.box = boxes[b];
                 const Coord origin = block.box.min().alignedDown(LeafT::LOG2DIM);
-                // Start from what the tree holds there: its leaf, or its tile.
-                auto leaf = std::make_unique<LeafT>(origin, background, false);
-                bool hadLeaf = false;
+                const bool whole = block.box == CoordBBox::createCube(origin, LeafT::DIM);
+                const LeafT* target = acc.probeConstLeaf(origin);
                 ValueT before{};
                 bool beforeOn = false;
-                if (const LeafT* target = acc.probeConstLeaf(origin)) {
-                    *leaf = *target;
-                    hadLeaf = true;
-                } else {
+                if (!target)
                     beforeOn = acc.probeValue(origin, before);
-                    leaf->fill(before, beforeOn);
-                }
-                // Overwrite the block's voxels from the dense values.
-                for (Int32 i = block.box.min()[0]; i <= block.box.max()[0]; ++i)
-                    for (Int32 j = block.box.min()[1]; j <= block.box.max()[1]; ++j) {
-                        const auto* src = &dense.getValue(Coord(i, j, block.box.min()[2]));
-                        Index n = LeafT::coordToOffset(Coord(i, j, block.box.min()[2]));
-                        for (Int32 k = block.box.min()[2]; k <= block.box.max()[2];
-                             ++k, src += dense.zStride(), ++n) {
-                            const ValueT v = ValueT(*src);
-                            if (math::isApproxEqual(background, v, tolerance))
-                                leaf->setValueOff(n, background);
-                            else
-                                leaf->setValueOn(n, v);
-                        }
+                if constexpr (kArrayLeaf) {
+                    if (!scratch) {
+                        scratch = std::make_unique<LeafT>(tree::PartialCreate{}, origin);
+                        scratch->setBufferCount(1);
                     }
-                if (leaf->isConstant(block.tile, block.tileOn, tolerance)) {
-                    block.addTile = hadLeaf || block.tileOn != beforeOn ||
+                } else if (!scratch) {
+                    scratch = std::make_unique<LeafT>(origin, background, false);
+                }
+                LeafT& leaf = *scratch;
+                leaf.setOrigin(origin);
+                // A partial block starts from what the tree holds there: its leaf or its tile.
+                if (!whole) {
+                    if (target)
+                        leaf = *target;
+                    else
+                        leaf.fill(before, beforeOn);
+                }
+                bool written = false;
+                if constexpr (kArrayLeaf) {
+                    if (whole) {
+                        // Every voxel from the dense values: values and mask words at once.
+                        ValueT* out = leaf.buffer(0).data();
+                        Word* words = leaf.getValueMask().words();
+                        std::fill_n(words, LeafT::MaskType::WORD_COUNT, Word(0));
+                        Index n = 0;
+                        for (Int32 i = 0; i < Int32(LeafT::DIM); ++i)
+                            for (Int32 j = 0; j < Int32(LeafT::DIM); ++j) {
+                                const auto* src = &dense.getValue(origin.offsetBy(i, j, 0));
+                                for (Index k = 0; k < LeafT::DIM; ++k, ++n, src += zStride) {
+                                    const ValueT v = ValueT(*src);
+                                    const bool on = !math::isApproxEqual(background, v, tolerance);
+                                    out[n] = on ? v : background;
+                                    words[n >> 6] |= Word(on) << (n & 63);
+                                }
+                            }
+                        written = true;
+                    }
+                }
+                if (!written) {
+                    for (Int32 i = block.box.min()[0]; i <= block.box.max()[0]; ++i)
+                        for (Int32 j = block.box.min()[1]; j <= block.box.max()[1]; ++j) {
+                            const auto* src = &dense.getValue(Coord(i, j, block.box.min()[2]));
+                            Index n = LeafT::coordToOffset(Coord(i, j, block.box.min()[2]));
+                            for (Int32 k = block.box.min()[2]; k <= block.box.max()[2];
+                                 ++k, src += zStride, ++n) {
+                                const ValueT v = ValueT(*src);
+                                if (math::isApproxEqual(background, v, tolerance))
+                                    leaf.setValueOff(n, background);
+                                else
+                                    leaf.setValueOn(n, v);
+                            }
+                        }
+                }
+                if (leaf.isConstant(block.tile, block.tileOn, tolerance)) {
+                    block.addTile = target || block.tileOn != beforeOn ||
                                     !math::isApproxEqual(block.tile, before, tolerance);
                 } else {
-                    block.leaf = std::move(leaf);
+                    block.leaf = std::move(scratch);
                 }
             }
         },
