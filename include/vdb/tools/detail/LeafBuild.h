@@ -21,6 +21,25 @@
 
 namespace vdb::tools::detail {
 
+/// Links `leaf` below the internal node `node`, creating the internal nodes on the way from the
+/// tiles they replace. @pre `node` contains the leaf's origin and holds no leaf there
+template <typename NodeT, typename LeafT>
+void linkLeafBelow(NodeT& node, std::unique_ptr<LeafT>& leaf) {
+    using ChildT = typename NodeT::ChildNodeType;
+    const Coord ijk = leaf->origin();
+    const Index n = NodeT::coordToOffset(ijk);
+    if constexpr (ChildT::LEVEL == 0) {
+        node.setChild(n, leaf.release());
+    } else {
+        ChildT* child = node.getChild(n);
+        if (!child) {
+            child = new ChildT(ijk, node.getTileValue(n), node.isTileOn(n));
+            node.setChild(n, child);
+        }
+        linkLeafBelow(*child, leaf);
+    }
+}
+
 /// Takes ownership of the non-null leaves of `leaves` and links each into `tree`, creating the
 /// internal nodes above it from the tiles (or background) they replace.
 /// @pre no two leaves share an origin, and the tree has no leaf at any of their origins
@@ -31,7 +50,7 @@ void linkLeaves(TreeT& tree, std::vector<std::unique_ptr<typename TreeT::LeafNod
     if constexpr (!tree::IS_ROOT_NODE<TopT>) {
         for (auto& leaf : leaves) {
             if (leaf)
-                linkLeaf(tree, std::move(leaf));
+                tree.addLeaf(std::move(leaf));
         }
     } else {
         using ChildT = typename TopT::ChildNodeType;
