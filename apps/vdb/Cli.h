@@ -269,6 +269,23 @@ void withLevelSetGrid(const GridBase::Ptr& grid, F&& f) {
                      "; this command needs a float or double grid");
 }
 
+/// Calls `f(typedGrid)` when `grid` is a FloatGrid, DoubleGrid, Vec3SGrid or Vec3DGrid (the
+/// grid types of the value filters and of field extension); throws UsageError naming the grid,
+/// its type and `takes` ("filters take") otherwise.
+template <typename F>
+void withRealGrid(const GridBase::Ptr& grid, const std::string& takes, F&& f) {
+    if (auto g = gridPtrCast<FloatGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<DoubleGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Vec3SGrid>(grid))
+        return f(*g);
+    if (auto g = gridPtrCast<Vec3DGrid>(grid))
+        return f(*g);
+    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() + "; " + takes +
+                     " float, double, vec3s and vec3d grids");
+}
+
 /// Calls `f(typedGrid)` for any grid type the library holds; throws UsageError otherwise.
 template <typename F>
 void withAnyGrid(const GridBase::Ptr& grid, F&& f) {

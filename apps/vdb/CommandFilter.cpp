@@ -21,22 +21,6 @@ bool isLevelSet(const GridBase& grid) {
            (dynamic_cast<const FloatGrid*>(&grid) || dynamic_cast<const DoubleGrid*>(&grid));
 }
 
-/// Calls `f(typedGrid)` for the grid types the value filters take (float, double, vec3s,
-/// vec3d); throws UsageError naming the grid and its type otherwise.
-template <typename F>
-void withFilterableGrid(const GridBase::Ptr& grid, F&& f) {
-    if (auto g = gridPtrCast<FloatGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<DoubleGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3SGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3DGrid>(grid))
-        return f(*g);
-    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() +
-                     "; filters take float, double, vec3s and vec3d grids");
-}
-
 /// `v` as a value of type ValueT (every component, for vectors).
 template <typename ValueT>
 ValueT uniformValue(double v) {
@@ -154,7 +138,7 @@ void addFilterCommand(CLI::App& app, Context& ctx) {
                     if (a.op == "median" && a.edit.grid.empty() &&
                         (gridPtrCast<Vec3SGrid>(grid) || gridPtrCast<Vec3DGrid>(grid)))
                         return false;
-                    withFilterableGrid(grid, [&](auto& g) {
+                    withRealGrid(grid, "filters take", [&](auto& g) {
                         report.step(a.op + " " + grid->getName(), [&] { filterValues(g, a); });
                     });
                     return true;

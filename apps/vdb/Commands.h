@@ -20,8 +20,9 @@ void addSpheresCommand(CLI::App& app, Context& ctx);
 void addDemoCommand(CLI::App& app, Context& ctx);
 void addToMeshCommand(CLI::App& app, Context& ctx);
 void addRebuildCommand(CLI::App& app, Context& ctx);
-void addFilterCommands(CLI::App& app, Context& ctx);    // filter, fog
-void addMeasureCommands(CLI::App& app, Context& ctx);   // measure, stats
-void addOperatorCommands(CLI::App& app, Context& ctx);  // gradient, laplacian, divergence, curl
+void addFilterCommands(CLI::App& app, Context& ctx);     // filter, fog
+void addMeasureCommands(CLI::App& app, Context& ctx);    // measure, stats
+void addOperatorCommands(CLI::App& app, Context& ctx);   // gradient, laplacian, divergence, curl
+void addFastSweepCommands(CLI::App& app, Context& ctx);  // redistance, extend
 
 }  // namespace vdb::app
