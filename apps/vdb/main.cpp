@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     addCsgCommand(app, ctx);
     addAdvectCommands(app, ctx);
     addRebuildCommand(app, ctx);
+    addResampleCommand(app, ctx);
     addConvertCommand(app, ctx);
     addRenderCommand(app, ctx);
     addFilterCommands(app, ctx);

@@ -182,8 +182,9 @@ void expectMatchesBruteForce(const FloatTree& in, const Mat4d& outFromIn, float 
             visited.push_back(visitedOracle(box, outFromIn, SamplerT::radius()));
     }
     for (const Coord& origin : leaves) {
+        // OpenVDB spans a leaf as [origin, origin + 8], one voxel past its end.
         visited.push_back(
-            visitedOracle(CoordBBox::createCube(origin, 8), outFromIn, SamplerT::radius()));
+            visitedOracle(CoordBBox::createCube(origin, 9), outFromIn, SamplerT::radius()));
     }
     CoordBBox outBox = visited.front();
     for (const CoordBBox& box : visited)

@@ -259,7 +259,8 @@ std::vector<CoordBBox> visitedBoxes(const TreeT& tree, const Mat4R& outFromIn, i
     std::vector<CoordBBox> boxes;
     boxes.reserve(tree.leafCount());
     for (auto it = tree.cbeginLeaf(); it; ++it) {
-        CoordBBox box = CoordBBox::createCube(it->origin(), DIM);
+        // OpenVDB's resampler spans a leaf as [origin, origin + DIM] (one voxel past its end).
+        CoordBBox box = CoordBBox::createCube(it->origin(), DIM + 1);
         if (mode == ResampleMode::LevelSet) {
             box = CoordBBox(Coord::maxComponent(box.min(), clip.min()),
                             Coord::minComponent(box.max(), clip.max()));
