@@ -51,7 +51,6 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using vdb::bench::fmt;
 using vdb::bench::splitList;
 
 /// The target of the issue: at most 0.8 times OpenVDB's time.
@@ -121,22 +120,20 @@ double medianMs(int reps, const std::function<uint64_t()>& op, uint64_t& count) 
     return vdb::bench::median(ms);
 }
 
-/// One row of the report table. Not inlined: GCC 12, inlining fmt() into main, warns of an
-/// impossible overlap in its string copies (-Wrestrict).
+/// One row of the report table (numbers formatted with snprintf: GCC 12, inlining
+/// bench::fmt() here, warns of an impossible overlap in its string copies, -Wrestrict).
 [[gnu::noinline]] vdb::bench::MarkdownReport::Row tableRow(const std::string& op,
                                                            const std::string& input, int threads,
                                                            double msOurs, double msTheirs,
                                                            uint64_t countOurs,
                                                            uint64_t countTheirs) {
-    std::string counts = fmt(double(countOurs), 0);
-    counts += " / ";
-    counts += fmt(double(countTheirs), 0);
-    return {op,
-            input,
-            std::to_string(threads),
-            fmt(msOurs, 1),
-            fmt(msTheirs, 1),
-            vdb::bench::ratioCell(msOurs / msTheirs, kTarget),
+    char ours[32], theirs[32], counts[64];
+    std::snprintf(ours, sizeof ours, "%.1f", msOurs);
+    std::snprintf(theirs, sizeof theirs, "%.1f", msTheirs);
+    std::snprintf(counts, sizeof counts, "%llu / %llu", static_cast<unsigned long long>(countOurs),
+                  static_cast<unsigned long long>(countTheirs));
+    return {op,    input,  std::to_string(threads),
+            ours,  theirs, vdb::bench::ratioCell(msOurs / msTheirs, kTarget),
             counts};
 }
 
