@@ -185,6 +185,40 @@ inline bool parsePositive(const std::string& s, int& value) {
     return true;
 }
 
+/// Prints `message` and then "usage: " and `usageLine` on stderr, and exits with status 2.
+[[noreturn]] inline void usageExit(const std::string& message, const char* usageLine) {
+    std::fprintf(stderr, "%s\nusage: %s\n", message.c_str(), usageLine);
+    std::exit(2);
+}
+
+/// parsePositive(), or usageExit() naming `what` and the bad text.
+inline int positiveOrExit(const std::string& s, const char* what, const char* usageLine) {
+    int value = 0;
+    if (!parsePositive(s, value))
+        usageExit(std::string("bad ") + what + " '" + s + "'", usageLine);
+    return value;
+}
+
+/// The median of `values` (the mean of the two middle ones for an even count); 0 when empty.
+inline double median(std::vector<double> values) {
+    if (values.empty())
+        return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// The sentence that opens a report of medians: how many runs, what the ratio is, the target
+/// and the machine's hardware threads.
+inline std::string mediansNote(int reps, double target, int cores) {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "Medians of %d runs in milliseconds; ratio = vdb / OpenVDB, in bold where it "
+                  "meets the target (at most %.2f). The machine has %d hardware threads.",
+                  reps, target, cores);
+    return line;
+}
+
 /// The smallest and largest of a set of ratios (this library / OpenVDB), for the overview line
 /// of a report.
 class RatioRange {

@@ -20,6 +20,7 @@ void addSpheresCommand(CLI::App& app, Context& ctx);
 void addDemoCommand(CLI::App& app, Context& ctx);
 void addToMeshCommand(CLI::App& app, Context& ctx);
 void addRebuildCommand(CLI::App& app, Context& ctx);
+void addResampleCommand(CLI::App& app, Context& ctx);
 void addFilterCommands(CLI::App& app, Context& ctx);     // filter, fog
 void addMeasureCommands(CLI::App& app, Context& ctx);    // measure, stats
 void addOperatorCommands(CLI::App& app, Context& ctx);   // gradient, laplacian, divergence, curl

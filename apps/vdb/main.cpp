@@ -62,6 +62,7 @@ int main(int argc, char** argv) {
     addAdvectCommands(app, ctx);
     addRebuildCommand(app, ctx);
     addFastSweepCommands(app, ctx);
+    addResampleCommand(app, ctx);
     addConvertCommand(app, ctx);
     addRenderCommand(app, ctx);
     addFilterCommands(app, ctx);

@@ -179,6 +179,7 @@ std::ostream& operator<<(std::ostream& os, const Mat4<T>& m) {
 
 using Mat4s = Mat4<float>;
 using Mat4d = Mat4<double>;
+using Mat4R = Mat4<double>;  ///< OpenVDB's name for the matrix of its tools' parameters
 
 // The file format stores 16 packed doubles (mat4d, AffineMap) or floats (mat4s).
 static_assert(sizeof(Mat4d) == 128 && sizeof(Mat4s) == 64);
@@ -340,6 +341,7 @@ Mat4<T> Mat4<T>::inverse() const {
 
 using math::Mat4;
 using math::Mat4d;
+using math::Mat4R;
 using math::Mat4s;
 
 }  // namespace vdb

@@ -272,6 +272,7 @@ std::ostream& operator<<(std::ostream& os, const Vec4<T>& v) {
 using Vec3s = Vec3<float>;
 using Vec3f = Vec3<float>;
 using Vec3d = Vec3<double>;
+using Vec3R = Vec3<double>;  ///< OpenVDB's name for the vector of its tools' parameters
 using Vec3i = Vec3<Int32>;
 using Vec3I = Vec3<Index32>;
 using Vec4s = Vec4<float>;
@@ -293,6 +294,7 @@ using math::Vec3d;
 using math::Vec3f;
 using math::Vec3I;
 using math::Vec3i;
+using math::Vec3R;
 using math::Vec3s;
 using math::Vec4;
 using math::Vec4d;
