@@ -51,7 +51,7 @@ protected:
 };
 
 TEST_F(ClipCli, BoxKeepsTheVoxelsFromTheFloorOfEachCorner) {
-    ok({"clip", "in.vdb", "-o", "out.vdb", "--bbox", "-2.2,-1,0.3,4.9,3.0,6"});
+    ok({"clip", path("in.vdb"), "-o", path("out.vdb"), "--bbox", "-2.2,-1,0.3,4.9,3.0,6"});
     const auto out = readFloat("out.vdb");
     ASSERT_TRUE(out);
     EXPECT_EQ(out->getName(), "density");
@@ -62,7 +62,8 @@ TEST_F(ClipCli, BoxKeepsTheVoxelsFromTheFloorOfEachCorner) {
         ASSERT_TRUE(CoordBBox(lo, hi).isInside(it.getCoord())) << it.getCoord();
         ASSERT_EQ(*it, mInput->tree().getValue(it.getCoord()));
     }
-    ok({"clip", "in.vdb", "-o", "outside.vdb", "--bbox", "-2.2,-1,0.3,4.9,3.0,6", "--outside"});
+    ok({"clip", path("in.vdb"), "-o", path("outside.vdb"), "--bbox", "-2.2,-1,0.3,4.9,3.0,6",
+        "--outside"});
     EXPECT_EQ(readFloat("outside.vdb")->activeVoxelCount(), countIn(lo, hi, false));
 }
 
@@ -72,26 +73,30 @@ TEST_F(ClipCli, MaskOfAnotherTypeAndTransformKeepsItsActiveVoxels) {
     // World [0, 3) on every axis: index 0..5 of the input (voxel size 0.5).
     mask->tree().fill(CoordBBox(Coord(0), Coord(2)), true, true);
     io::File(path("mask.vdb")).write(GridPtrVec{mask});
-    ok({"clip", "in.vdb", "-o", "out.vdb", "--mask", "mask.vdb"});
+    ok({"clip", path("in.vdb"), "-o", path("out.vdb"), "--mask", path("mask.vdb")});
     EXPECT_EQ(readFloat("out.vdb")->activeVoxelCount(), countIn(Coord(0), Coord(5), true));
-    ok({"clip", "in.vdb", "-o", "out2.vdb", "--mask", "mask.vdb", "--outside"});
+    ok({"clip", path("in.vdb"), "-o", path("out2.vdb"), "--mask", path("mask.vdb"), "--outside"});
     EXPECT_EQ(readFloat("out2.vdb")->activeVoxelCount(), countIn(Coord(0), Coord(5), false));
 }
 
 TEST_F(ClipCli, BadArgumentsFailAndLeaveTheOutputAlone) {
     io::File(path("keep.vdb")).write(GridPtrVec{mInput});
     const auto before = test::fileBytes(path("keep.vdb"));
-    fails({"clip", "in.vdb", "-o", "keep.vdb"}, 2, "exactly one of --bbox and --mask");
-    fails({"clip", "in.vdb", "-o", "keep.vdb", "--bbox", "0,0,0,1,1,1", "--mask", "in.vdb"}, 2,
-          "exactly one of --bbox and --mask");
-    fails({"clip", "in.vdb", "-o", "keep.vdb", "--bbox", "0,0,0,1,1"}, 2, "bbox");
-    fails({"clip", "in.vdb", "-o", "keep.vdb", "--bbox", "0,0,0,1,nan,1"}, 2, "bbox");
-    fails({"clip", "in.vdb", "-o", "keep.vdb", "--bbox", "0,0,0,1,-1,1"}, 2,
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb")}, 2, "exactly one of --bbox and --mask");
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb"), "--bbox", "0,0,0,1,1,1", "--mask",
+           path("in.vdb")},
+          2, "exactly one of --bbox and --mask");
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb"), "--bbox", "0,0,0,1,1"}, 2, "bbox");
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb"), "--bbox", "0,0,0,1,nan,1"}, 2, "bbox");
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb"), "--bbox", "0,0,0,1,-1,1"}, 2,
           "must not exceed the maximum");
-    fails({"clip", "in.vdb", "-o", "keep.vdb", "--mask", "missing.vdb"}, 1, "missing.vdb");
-    fails({"clip", "missing.vdb", "-o", "keep.vdb", "--bbox", "0,0,0,1,1,1"}, 1, "missing.vdb");
-    fails({"clip", "in.vdb", "-o", "keep.vdb", "--mask", "in.vdb", "--mask-grid", "nope"}, 2,
-          "nope");
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb"), "--mask", path("missing.vdb")}, 1,
+          "missing.vdb");
+    fails({"clip", path("missing.vdb"), "-o", path("keep.vdb"), "--bbox", "0,0,0,1,1,1"}, 1,
+          "missing.vdb");
+    fails({"clip", path("in.vdb"), "-o", path("keep.vdb"), "--mask", path("in.vdb"), "--mask-grid",
+           "nope"},
+          2, "nope");
     EXPECT_EQ(test::fileBytes(path("keep.vdb")), before);
 }
 
