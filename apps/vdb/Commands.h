@@ -11,6 +11,7 @@ namespace vdb::app {
 void addInfoCommand(CLI::App& app, Context& ctx);
 void addConvertCommand(CLI::App& app, Context& ctx);
 void addCsgCommand(CLI::App& app, Context& ctx);
+void addClipCommand(CLI::App& app, Context& ctx);
 void addMorphCommands(CLI::App& app, Context& ctx);  // morph, floodfill, prune
 void addSphereCommand(CLI::App& app, Context& ctx);
 void addAdvectCommands(CLI::App& app, Context& ctx);  // advect, enright

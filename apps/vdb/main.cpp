@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
     addSphereCommand(app, ctx);
     addMorphCommands(app, ctx);
     addCsgCommand(app, ctx);
+    addClipCommand(app, ctx);
     addAdvectCommands(app, ctx);
     addRebuildCommand(app, ctx);
     addFastSweepCommands(app, ctx);

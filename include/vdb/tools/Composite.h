@@ -32,6 +32,24 @@
 /// auto cut = vdb::tools::csgDifferenceCopy(*sphereA, *sphereB);     // new grid A - B
 /// vdb::tools::csgIntersection(treeA, treeB, /*prune=*/false);       // trees work too
 /// @endcode
+///
+/// The compositing operations compMax, compMin, compSum, compMul and compDiv work on any two
+/// trees of one type (OpenVDB 10's names and rules, through Tree::combineExtended): every
+/// value of A, voxel or tile, active or not, becomes max(a, b), min(a, b), a + b, a * b or
+/// a / b of the values A and B hold at that place, and is active where either was active.
+/// Where one tree has a tile and the other a branch, the tile's value is combined with every
+/// value of the branch (B's branches are moved into A, never copied); regions where a tree has
+/// no node count as its background, inactive; A's background becomes op(background of A,
+/// background of B). B is left empty. Vectors compare by length in compMax / compMin (ties
+/// go to the lexicographically larger / smaller vector); integer division by zero gives 0 for
+/// 0 / 0 and otherwise the largest value of the type with a's sign; bools divide as `a`.
+/// compReplace(A, B) copies B's active values into A (A's active topology becomes the union of
+/// both) and leaves B untouched. Nothing is pruned.
+///
+/// @code
+/// vdb::tools::compMax(*densityA, *densityB);      // A = max(A, B), B emptied
+/// vdb::tools::compReplace(*grid, *patch);         // B's active values pasted into A
+/// @endcode
 
 #pragma once
 
@@ -39,8 +57,12 @@
 #include <vdb/Grid.h>
 #include <vdb/tools/Prune.h>
 #include <vdb/tools/detail/CompositeImpl.h>
+#include <vdb/tools/detail/LeafPairs.h>
+#include <vdb/tools/detail/NodeLists.h>
 #include <vdb/tree/Tree.h>
 
+#include <algorithm>
+#include <limits>
 #include <memory>
 #include <type_traits>
 
@@ -96,6 +118,42 @@ typename Grid<TreeT>::Ptr csgIntersectionCopy(const Grid<TreeT>& a, const Grid<T
 template <LevelSetTreeType TreeT>
 typename Grid<TreeT>::Ptr csgDifferenceCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
                                             bool threaded = true);
+
+// ---- Compositing of any two trees of one type: the result goes to `a`, `b` is left empty
+
+/// a = max(a, b) value by value (vectors: the longer); see the file comment.
+template <VdbTree TreeT>
+void compMax(TreeT& a, TreeT& b, bool threaded = true);
+/// a = min(a, b) value by value (vectors: the shorter).
+template <VdbTree TreeT>
+void compMin(TreeT& a, TreeT& b, bool threaded = true);
+/// a = a + b value by value.
+template <VdbTree TreeT>
+void compSum(TreeT& a, TreeT& b, bool threaded = true);
+/// a = a * b value by value.
+template <VdbTree TreeT>
+void compMul(TreeT& a, TreeT& b, bool threaded = true);
+/// a = a / b value by value (integers: see the file comment for division by zero).
+template <VdbTree TreeT>
+void compDiv(TreeT& a, TreeT& b, bool threaded = true);
+/// Copies the active values of `b` into `a`, activating them; `b` is not changed.
+template <VdbTree TreeT>
+void compReplace(TreeT& a, const TreeT& b, bool threaded = true);
+
+/// The grid forms work on the grids' trees; transforms and metadata are not changed.
+/// @throw ValueError when the grids' transforms differ by more than a relative 1e-6.
+template <VdbTree TreeT>
+void compMax(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded = true);
+template <VdbTree TreeT>
+void compMin(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded = true);
+template <VdbTree TreeT>
+void compSum(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded = true);
+template <VdbTree TreeT>
+void compMul(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded = true);
+template <VdbTree TreeT>
+void compDiv(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded = true);
+template <VdbTree TreeT>
+void compReplace(Grid<TreeT>& a, const Grid<TreeT>& b, bool threaded = true);
 
 // ---- Implementation ---------------------------------------------------------------------------
 
@@ -235,6 +293,158 @@ template <LevelSetTreeType TreeT>
 typename Grid<TreeT>::Ptr csgDifferenceCopy(const Grid<TreeT>& a, const Grid<TreeT>& b,
                                             bool threaded) {
     return detail::csgGridCopy(detail::CsgKind::Difference, a, b, threaded);
+}
+
+// ---- Compositing
+
+namespace detail {
+
+template <typename T>
+concept VectorValue = requires(const T& v) {
+    v.lengthSqr();
+};
+
+/// True when `a` precedes `b`: by length for vectors (lexicographically on equal lengths), by
+/// value otherwise.
+template <typename T>
+bool compositeLess(const T& a, const T& b) {
+    if constexpr (VectorValue<T>) {
+        const auto la = a.lengthSqr(), lb = b.lengthSqr();
+        if (la != lb)
+            return la < lb;
+        for (int i = 0; i < 3; ++i) {
+            if (a[i] != b[i])
+                return a[i] < b[i];
+        }
+        return false;
+    } else {
+        return a < b;
+    }
+}
+
+struct CompMaxOp {
+    template <typename T>
+    T operator()(const T& a, const T& b) const {
+        return compositeLess(a, b) ? b : a;
+    }
+};
+struct CompMinOp {
+    template <typename T>
+    T operator()(const T& a, const T& b) const {
+        return compositeLess(b, a) ? b : a;
+    }
+};
+struct CompSumOp {
+    template <typename T>
+    T operator()(const T& a, const T& b) const {
+        return T(a + b);
+    }
+};
+struct CompMulOp {
+    template <typename T>
+    T operator()(const T& a, const T& b) const {
+        return T(a * b);
+    }
+};
+struct CompDivOp {
+    template <typename T>
+    T operator()(const T& a, const T& b) const {
+        if constexpr (std::is_same_v<T, bool>) {
+            return a;
+        } else if constexpr (std::is_integral_v<T>) {
+            if (b != T(0))
+                return T(a / b);
+            if (a == T(0))
+                return T(0);
+            return a > T(0) ? std::numeric_limits<T>::max() : T(-std::numeric_limits<T>::max());
+        } else {
+            return T(a / b);
+        }
+    }
+};
+
+template <typename TreeT, typename OpT>
+void combineTrees(TreeT& a, TreeT& b, const OpT& op, bool threaded, const char* name) {
+    if (&a == &b)
+        throw ValueError(std::string(name) + ": A and B must be different trees");
+    CombineTrees<TreeT, OpT>(a, b, op).run(threaded);
+}
+
+template <typename TreeT, typename OpT>
+void combineGrids(Grid<TreeT>& a, Grid<TreeT>& b, const OpT& op, bool threaded, const char* name) {
+    checkMatchingTransforms(a, b, name);
+    combineTrees(a.tree(), b.tree(), op, threaded, name);
+}
+
+}  // namespace detail
+
+template <VdbTree TreeT>
+void compMax(TreeT& a, TreeT& b, bool threaded) {
+    detail::combineTrees(a, b, detail::CompMaxOp{}, threaded, "compMax");
+}
+template <VdbTree TreeT>
+void compMin(TreeT& a, TreeT& b, bool threaded) {
+    detail::combineTrees(a, b, detail::CompMinOp{}, threaded, "compMin");
+}
+template <VdbTree TreeT>
+void compSum(TreeT& a, TreeT& b, bool threaded) {
+    detail::combineTrees(a, b, detail::CompSumOp{}, threaded, "compSum");
+}
+template <VdbTree TreeT>
+void compMul(TreeT& a, TreeT& b, bool threaded) {
+    detail::combineTrees(a, b, detail::CompMulOp{}, threaded, "compMul");
+}
+template <VdbTree TreeT>
+void compDiv(TreeT& a, TreeT& b, bool threaded) {
+    detail::combineTrees(a, b, detail::CompDivOp{}, threaded, "compDiv");
+}
+
+template <VdbTree TreeT>
+void compReplace(TreeT& a, const TreeT& b, bool threaded) {
+    if (&a == &b)
+        return;
+    // B's active states, then B's active tile values, then B's active voxel values.
+    a.topologyUnion(b);
+    for (auto it = b.cbeginValueOn(); it; ++it) {
+        if (it.isTileValue()) {
+            CoordBBox bbox;
+            it.getBoundingBox(bbox);
+            a.fill(bbox, it.getValue(), true);
+        }
+    }
+    detail::forEachLeafPair(
+        b, a,
+        [](const auto& from, auto& to) {
+            for (Index n : from.getValueMask().onBits())
+                to.setValueOn(n, from.getValue(n));
+        },
+        threaded);
+}
+
+template <VdbTree TreeT>
+void compMax(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded) {
+    detail::combineGrids(a, b, detail::CompMaxOp{}, threaded, "compMax");
+}
+template <VdbTree TreeT>
+void compMin(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded) {
+    detail::combineGrids(a, b, detail::CompMinOp{}, threaded, "compMin");
+}
+template <VdbTree TreeT>
+void compSum(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded) {
+    detail::combineGrids(a, b, detail::CompSumOp{}, threaded, "compSum");
+}
+template <VdbTree TreeT>
+void compMul(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded) {
+    detail::combineGrids(a, b, detail::CompMulOp{}, threaded, "compMul");
+}
+template <VdbTree TreeT>
+void compDiv(Grid<TreeT>& a, Grid<TreeT>& b, bool threaded) {
+    detail::combineGrids(a, b, detail::CompDivOp{}, threaded, "compDiv");
+}
+template <VdbTree TreeT>
+void compReplace(Grid<TreeT>& a, const Grid<TreeT>& b, bool threaded) {
+    checkMatchingTransforms(a, b, "compReplace");
+    compReplace(a.tree(), b.tree(), threaded);
 }
 
 // ---- Instantiated once in src/instantiate/Composite.cpp

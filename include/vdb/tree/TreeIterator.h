@@ -401,6 +401,32 @@ public:
         });
     }
 
+    /// Changes the current voxel's or tile's active state, keeping its value (in a mask tree a
+    /// tile's value follows its state). A value-on iterator may turn off its current item and
+    /// go on; the walk continues after it.
+    void setActiveState(bool on) const requires(!IS_CONST) {
+        mWalk.dispatch([&](auto level) {
+            constexpr Index L = decltype(level)::value;
+            if constexpr (L == 0) {
+                mWalk.template node<0>()->setActiveState(mWalk.template pos<0>(), on);
+            } else if constexpr (L == TOP && Walk::ROOT_TOP) {
+                auto& entry = mWalk.template topEntry<L>();
+                entry.tile = detail::tileValue<typename Walk::template NodeT<L>>(entry.tile, on);
+                entry.active = on;
+            } else {
+                auto* node = mWalk.template node<L>();
+                const Index n = mWalk.template pos<L>();
+                node->setTile(
+                    n,
+                    detail::tileValue<typename Walk::template NodeT<L>>(node->getTileValue(n), on),
+                    on);
+            }
+        });
+    }
+    /// OpenVDB's names for setActiveState(on) and setActiveState(false).
+    void setValueOn(bool on = true) const requires(!IS_CONST) { setActiveState(on); }
+    void setValueOff() const requires(!IS_CONST) { setActiveState(false); }
+
 private:
     Walk mWalk;
     TreeT* mTree = nullptr;

@@ -410,4 +410,154 @@ private:
     std::vector<LeafT*> mMovedLeaves;
 };
 
+/// Combines tree `b` into tree `a` value by value, with the rules of OpenVDB 10's
+/// Tree::combineExtended: every value of `a` becomes op(a, b) of the values both trees hold
+/// there, active when either was active, and `b` is left empty.
+///
+/// - Two tiles (a missing root entry counts as an inactive tile of its tree's background) give
+///   one tile. A tile over a child of the other tree is combined with every value of that
+///   branch: a's child keeps its place; b's child is moved into `a` (op still takes a's tile as
+///   its first argument).
+/// - Two leaves combine voxel by voxel; their active masks are or-ed a word at a time.
+/// - The result's background is op(background of a, background of b).
+///
+/// Threads: the walk over the internal nodes is serial; the leaves are combined in parallel,
+/// each by one task, so results do not depend on the thread count. A bounded tree's top node
+/// is walked entry by entry.
+template <typename TreeT, typename OpT>
+class CombineTrees {
+public:
+    using ValueT = typename TreeT::ValueType;
+    using TopT = typename TreeT::TopNodeType;
+    using LeafT = typename TreeT::LeafNodeType;
+
+    CombineTrees(TreeT& a, TreeT& b, const OpT& op) : mA(a), mB(b), mOp(op) {}
+
+    void run(bool threaded) {
+        if constexpr (TreeT::BOUNDED) {
+            combineNodes(mA.topNode(), mB.topNode());
+        } else {
+            combineRoots(mA.root(), mB.root());
+        }
+        util::parallelFor(
+            mLeafPairs.size(),
+            [this](size_t i) { combineLeaves(*mLeafPairs[i].first, *mLeafPairs[i].second); },
+            threaded, 4);
+        util::parallelFor(
+            mLeafTiles.size(), [this](size_t i) { combineLeafWithTile(mLeafTiles[i]); }, threaded,
+            4);
+        mA.setBackground(mOp(mA.background(), mB.background()));
+        mB.clear();
+        mA.clearAllAccessors();
+    }
+
+private:
+    /// A leaf to combine with a tile value: op(leaf, tile), or op(tile, leaf) when `swapped`.
+    struct LeafTile {
+        LeafT* leaf;
+        ValueT tile;
+        bool active;
+        bool swapped;
+    };
+
+    ValueT apply(const ValueT& x, const ValueT& tile, bool swapped) const {
+        return swapped ? mOp(tile, x) : mOp(x, tile);
+    }
+
+    void combineLeaves(LeafT& a, const LeafT& b) const {
+        for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+            a.setValueOnly(n, mOp(a.getValue(n), b.getValue(n)));
+        auto& mask = a.getValueMask();
+        for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w)
+            mask.getWord(w) |= b.getValueMask().getWord(w);
+    }
+
+    void combineLeafWithTile(const LeafTile& t) const {
+        for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+            t.leaf->setValueOnly(n, apply(t.leaf->getValue(n), t.tile, t.swapped));
+        if (t.active) {
+            auto& mask = t.leaf->getValueMask();
+            for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w)
+                mask.getWord(w) = ~uint64_t(0);
+        }
+    }
+
+    /// Combines every value of the branch under `node` with a tile value.
+    template <typename NodeT>
+    void combineBranchWithTile(NodeT& node, const ValueT& tile, bool active, bool swapped) {
+        if constexpr (NodeT::LEVEL == 0) {
+            mLeafTiles.push_back({&node, tile, active, swapped});
+        } else {
+            for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
+                if (auto* child = node.getChild(n)) {
+                    combineBranchWithTile(*child, tile, active, swapped);
+                } else {
+                    node.setTile(n, apply(node.getTileValue(n), tile, swapped),
+                                 node.isTileOn(n) || active);
+                }
+            }
+        }
+    }
+
+    template <typename NodeT>
+    void combineNodes(NodeT& a, NodeT& b) {
+        if constexpr (NodeT::LEVEL == 0) {
+            mLeafPairs.emplace_back(&a, &b);
+        } else {
+            for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
+                auto* childA = a.getChild(n);
+                auto* childB = b.getChild(n);
+                if (childA && childB) {
+                    combineNodes(*childA, *childB);
+                } else if (childA) {
+                    combineBranchWithTile(*childA, b.getTileValue(n), b.isTileOn(n), false);
+                } else if (childB) {
+                    const ValueT tile = a.getTileValue(n);
+                    const bool active = a.isTileOn(n);
+                    a.setChild(n, b.stealChild(n, mB.background(), false));
+                    combineBranchWithTile(*childB, tile, active, true);
+                } else {
+                    a.setTile(n, mOp(a.getTileValue(n), b.getTileValue(n)),
+                              a.isTileOn(n) || b.isTileOn(n));
+                }
+            }
+        }
+    }
+
+    void combineRoots(TopT& a, TopT& b) {
+        std::set<Coord> keys;
+        for (auto c = a.cbegin(); a.valid(c); a.next(c))
+            keys.insert(a.key(c));
+        for (auto c = b.cbegin(); b.valid(c); b.next(c))
+            keys.insert(b.key(c));
+        for (const Coord& key : keys) {
+            auto* ea = a.findEntry(key);
+            auto* eb = b.findEntry(key);
+            const ValueT tileA = ea ? ea->tile : mA.background();
+            const ValueT tileB = eb ? eb->tile : mB.background();
+            const bool onA = ea && !ea->child && ea->active;
+            const bool onB = eb && !eb->child && eb->active;
+            auto* childA = ea ? ea->child : nullptr;
+            auto* childB = eb ? eb->child : nullptr;
+            if (childA && childB) {
+                combineNodes(*childA, *childB);
+            } else if (childA) {
+                combineBranchWithTile(*childA, tileB, onB, false);
+            } else if (childB) {
+                auto* moved = b.stealChild(key);
+                a.setChild(moved);
+                combineBranchWithTile(*moved, tileA, onA, true);
+            } else {
+                a.setTile(key, mOp(tileA, tileB), onA || onB);
+            }
+        }
+    }
+
+    TreeT& mA;
+    TreeT& mB;
+    const OpT& mOp;
+    std::vector<std::pair<LeafT*, const LeafT*>> mLeafPairs;
+    std::vector<LeafTile> mLeafTiles;
+};
+
 }  // namespace vdb::tools::detail
