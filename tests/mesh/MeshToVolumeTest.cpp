@@ -127,6 +127,22 @@ TEST(MeshToVolume, CubeOfQuadsMatchesBruteForceWithUnequalBands) {
     EXPECT_TRUE(matchesOracle(*grid, test::toIndexSpace(mesh, dx), dx, {2.0, 4.5, true, 5}));
 }
 
+TEST(MeshToVolume, DenseMeshAtACoarseVoxelSizeMatchesBruteForce) {
+    // About 3,500 triangles on a sphere of radius 8 voxels, 4.4 triangles per voxel of area,
+    // with a band of 5 voxels: each leaf is reached by well over a thousand triangles, so the
+    // distances come from the per-voxel queries of the triangle hierarchy, not the raster.
+    const double dx = 0.1;
+    const TestMesh mesh = test::makeSphereMesh(Vec3d(0.013, -0.021, 0.007), 0.8, 30, 60);
+    MeshToVolumeOptions options;
+    options.exteriorBandWidth = 5.0f;
+    options.interiorBandWidth = 5.0f;
+    const auto grid = convert(mesh, dx, options);
+    EXPECT_TRUE(matchesOracle(*grid, test::toIndexSpace(mesh, dx), dx, {5.0, 5.0, true, 7}));
+    // The same grid with one thread.
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    EXPECT_TRUE(test::sameContents(grid->tree(), convert(mesh, dx, options)->tree()));
+}
+
 TEST(MeshToVolume, QuadsEqualTheirSplitTriangles) {
     const TestMesh quads = test::makeCubeMesh(Vec3d(0.3, 0.2, 0.1), 3.0, 3, true);
     TestMesh tris = quads;

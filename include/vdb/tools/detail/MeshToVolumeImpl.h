@@ -100,6 +100,131 @@ struct DistanceTriangle {
     }
 };
 
+/// A bounding volume hierarchy over a set of DistanceTriangles for nearest-distance queries:
+/// axis-aligned boxes, split at the median centre along the longest axis, up to LEAF_SIZE
+/// triangles a leaf. Where many small triangles fall within the band of each voxel (a dense
+/// mesh at a coarse voxel size), a query per voxel visits only the triangles whose boxes come
+/// closer than the best distance found so far, instead of every triangle within the band.
+/// Threads: build once, then query concurrently.
+class TriangleBvh {
+public:
+    static constexpr uint32_t LEAF_SIZE = 4;
+
+    explicit TriangleBvh(const std::vector<DistanceTriangle>& tris) : mTris(&tris) {
+        mOrder.resize(tris.size());
+        for (uint32_t t = 0; t < mOrder.size(); ++t)
+            mOrder[t] = t;
+        mNodes.reserve(2 * (tris.size() / LEAF_SIZE + 1));
+        mNodes.emplace_back();
+        if (!tris.empty())
+            split(0, 0, uint32_t(tris.size()));
+    }
+
+    /// min(bound2, the smallest squared distance from `p` to a triangle). Every triangle whose
+    /// box may come within the bound is evaluated with DistanceTriangle::sqrDistance(p - a),
+    /// so the result equals the minimum over all triangles of that same expression.
+    /// `hint` (in and out): a triangle index to evaluate first, the closest one's on return
+    /// (unchanged when none comes within the bound); a neighbour's closest triangle makes the
+    /// bound tight from the start.
+    double minSqrDistance(const Vec3d& p, double bound2, uint32_t& hint) const {
+        if (mOrder.empty())
+            return bound2;
+        double best = bound2;
+        if (hint < mTris->size()) {
+            const DistanceTriangle& tri = (*mTris)[hint];
+            best = std::min(best, tri.sqrDistance(p - tri.a));
+        }
+        std::array<uint32_t, 96> stack;
+        size_t top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = mNodes[stack[--top]];
+            if (prunes(node, p, best))
+                continue;
+            if (node.count > 0) {
+                for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+                    const DistanceTriangle& tri = (*mTris)[mOrder[i]];
+                    const double d2 = tri.sqrDistance(p - tri.a);
+                    if (d2 < best) {
+                        best = d2;
+                        hint = mOrder[i];
+                    }
+                }
+                continue;
+            }
+            // The nearer child is visited first: pushed last.
+            const double l0 = lowerBound(mNodes[node.first], p);
+            const double l1 = lowerBound(mNodes[node.first + 1], p);
+            const uint32_t nearChild = l0 <= l1 ? node.first : node.first + 1;
+            const uint32_t farChild = l0 <= l1 ? node.first + 1 : node.first;
+            stack[top++] = farChild;
+            stack[top++] = nearChild;
+        }
+        return best;
+    }
+
+private:
+    struct Node {
+        Vec3d lo, hi;
+        uint32_t first = 0;  // a leaf: the first index into mOrder; else the first child
+        uint32_t count = 0;  // triangles of a leaf; 0 for an inner node
+    };
+
+    static double lowerBound(const Node& node, const Vec3d& p) {
+        double d2 = 0.0;
+        for (int i = 0; i < 3; ++i) {
+            const double g = std::max({node.lo[i] - p[i], 0.0, p[i] - node.hi[i]});
+            d2 += g * g;
+        }
+        return d2;
+    }
+    // A node is skipped when its box is farther than the best distance; the relative margin
+    // keeps a triangle whose computed distance rounds below its box's computed bound.
+    static bool prunes(const Node& node, const Vec3d& p, double best) {
+        return lowerBound(node, p) * (1.0 - 1e-12) > best;
+    }
+
+    void split(uint32_t index, uint32_t first, uint32_t last) {
+        const auto& tris = *mTris;
+        Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        Vec3d clo = lo, chi = hi;
+        for (uint32_t i = first; i < last; ++i) {
+            const DistanceTriangle& t = tris[mOrder[i]];
+            lo = Vec3d::minComponent(lo, t.lo);
+            hi = Vec3d::maxComponent(hi, t.hi);
+            const Vec3d c = 0.5 * (t.lo + t.hi);
+            clo = Vec3d::minComponent(clo, c);
+            chi = Vec3d::maxComponent(chi, c);
+        }
+        mNodes[index].lo = lo;
+        mNodes[index].hi = hi;
+        if (last - first <= LEAF_SIZE) {
+            mNodes[index].first = first;
+            mNodes[index].count = last - first;
+            return;
+        }
+        const Vec3d extent = chi - clo;
+        const int axis = extent[0] >= extent[1] ? (extent[0] >= extent[2] ? 0 : 2)
+                                                : (extent[1] >= extent[2] ? 1 : 2);
+        const uint32_t mid = first + (last - first) / 2;
+        std::nth_element(mOrder.begin() + first, mOrder.begin() + mid, mOrder.begin() + last,
+                         [&](uint32_t x, uint32_t y) {
+                             return tris[x].lo[axis] + tris[x].hi[axis] <
+                                    tris[y].lo[axis] + tris[y].hi[axis];
+                         });
+        const uint32_t child = uint32_t(mNodes.size());
+        mNodes[index].first = child;
+        mNodes.emplace_back();
+        mNodes.emplace_back();
+        split(child, first, mid);
+        split(child + 1, mid, last);
+    }
+
+    const std::vector<DistanceTriangle>* mTris;
+    std::vector<Node> mNodes;
+    std::vector<uint32_t> mOrder;
+};
+
 // ---- Scanline crossings ----
 
 /// Lexicographic order of points, which names one end of every edge its first, so that the two
@@ -689,6 +814,9 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
     };
 
     // Distances and signs, block by block, leaf by leaf.
+    // Rows of voxels a leaf's triangles would visit one by one, above which the leaf's
+    // distances come from per-voxel queries of the block's triangle hierarchy instead.
+    constexpr uint64_t RASTER_ROW_LIMIT = 16 * LeafT::NUM_VALUES;
     const double halfDiagonal = 0.5 * double(LEAF_DIM - 1) * std::sqrt(3.0);
     const double leafReach2 = (band + halfDiagonal) * (band + halfDiagonal) * (1.0 + 1e-12) + 1e-9;
     buildLeavesByBlock(
@@ -719,6 +847,7 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
             }
             std::sort(pairs.begin(), pairs.end());
 
+            std::unique_ptr<TriangleBvh> bvh;  // made when a leaf of the block needs it
             std::array<double, LeafT::NUM_VALUES> dist2;
             std::array<int32_t, LeafT::NUM_VALUES> below;
             std::array<bool, LeafT::NUM_VALUES> inside{};
@@ -731,10 +860,52 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                 const Coord leafOrigin = Leaves::leafOrigin(origin, leafIndex);
                 const CoordBBox leafBox = CoordBBox::createCube(leafOrigin, LEAF_DIM);
 
-                // Minimum squared distance over the leaf's triangles, voxel by voxel, visiting
-                // for each triangle only the voxels that can lie within the band of it.
-                dist2.fill(band2);
+                // Minimum squared distance over the leaf's triangles. Where they are few or
+                // large, triangle by triangle, visiting for each only the voxels that can lie
+                // within the band of it; where many small triangles reach the leaf (the rows
+                // visited exceed RASTER_ROW_LIMIT), voxel by voxel through the block's triangle
+                // hierarchy, each query bounded by the previous voxel's distance plus one.
+                // Both give the minimum of the same distances.
+                uint64_t rows = 0;
                 for (size_t r = p; r < q; ++r) {
+                    const CoordBBox& box = reach[pairs[r].second];
+                    const Int64 nx = Int64(std::min(box.max()[0], leafBox.max()[0])) -
+                                     std::max(box.min()[0], leafBox.min()[0]) + 1;
+                    const Int64 ny = Int64(std::min(box.max()[1], leafBox.max()[1])) -
+                                     std::max(box.min()[1], leafBox.min()[1]) + 1;
+                    if (nx > 0 && ny > 0)
+                        rows += uint64_t(nx * ny);
+                }
+                const bool byVoxel = rows > RASTER_ROW_LIMIT;
+                if (byVoxel) {
+                    if (!bvh)
+                        bvh = std::make_unique<TriangleBvh>(tris);
+                    uint32_t hint = ~uint32_t(0);
+                    for (Int32 i = 0; i < LEAF_DIM; ++i) {
+                        for (Int32 j = 0; j < LEAF_DIM; ++j) {
+                            const Index row = LeafT::coordToOffset(Coord(i, j, 0));
+                            double previous = band2;
+                            for (Int32 k = 0; k < LEAF_DIM; ++k) {
+                                const Vec3d xyz(leafOrigin.offsetBy(i, j, k));
+                                // |d(v) - d(u)| <= 1 for neighbours: a bound that holds with
+                                // room for rounding.
+                                const double lipschitz =
+                                    previous < band2
+                                        ? std::min(band2, (std::sqrt(previous) + 1.0 + 1e-6) *
+                                                              (std::sqrt(previous) + 1.0 + 1e-6))
+                                        : band2;
+                                double d2 = bvh->minSqrDistance(xyz, lipschitz, hint);
+                                if (d2 >= lipschitz && lipschitz < band2)
+                                    d2 = bvh->minSqrDistance(xyz, band2, hint);
+                                dist2[row + Index(k)] = d2;
+                                previous = d2;
+                            }
+                        }
+                    }
+                } else {
+                    dist2.fill(band2);
+                }
+                for (size_t r = byVoxel ? q : p; r < q; ++r) {
                     const DistanceTriangle& tri = tris[pairs[r].second];
                     CoordBBox box = reach[pairs[r].second];
                     box.min() = Coord::maxComponent(box.min(), leafBox.min());
