@@ -384,21 +384,34 @@ Mesh readMesh(const std::string& path) {
     const uint64_t fileSize = std::filesystem::file_size(path, ec);
     {
         std::ifstream in(path, std::ios::binary);
-        std::string head(16, '\0');
+        // assimp chooses its PLY reader by the extension or by "ply" in any case anywhere in
+        // the first 200 bytes (nulls skipped), and that reader trusts what follows: such a
+        // file must be a PLY file with its magic line, and is checked as one.
+        std::string head(200, '\0');
         in.read(head.data(), std::streamsize(head.size()));
         head.resize(size_t(in.gcount()));
         in.clear();
         in.seekg(0);
-        if (head.rfind("ply", 0) == 0) {
+        std::string ext = std::filesystem::path(path).extension().string();
+        const auto lower = [](std::string text) {
+            std::transform(text.begin(), text.end(), text.begin(),
+                           [](unsigned char c) { return char(std::tolower(c)); });
+            return text;
+        };
+        ext = lower(ext);
+        std::string folded = lower(head);
+        std::erase(folded, '\0');
+        const bool plyMagic = head.rfind("ply\n", 0) == 0 || head.rfind("ply\r\n", 0) == 0;
+        const bool otherFormat = ext == ".obj" || ext == ".stl" || ext == ".off";
+        if (plyMagic || ext == ".ply" ||
+            (!otherFormat && folded.find("ply") != std::string::npos)) {
+            if (!plyMagic)
+                fail(path, "not a PLY file: its first line is not \"ply\"");
             checkPly(path, in, fileSize);
         } else if (head.find("OFF") != std::string::npos && head.find("OFF") < 4) {
             checkOff(path, in, fileSize);
-        } else {
-            std::string ext = std::filesystem::path(path).extension().string();
-            std::transform(ext.begin(), ext.end(), ext.begin(),
-                           [](unsigned char c) { return char(std::tolower(c)); });
-            if (ext == ".obj")
-                checkObj(path, in);
+        } else if (ext == ".obj") {
+            checkObj(path, in);
         }
     }
 

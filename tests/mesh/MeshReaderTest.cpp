@@ -241,6 +241,23 @@ TEST(MeshReader, MissingAndEmptyFilesThrow) {
     EXPECT_TRUE(rejects("garbage.ply", "this is not a mesh\n"));
 }
 
+TEST(MeshReader, PlyHeadersWithoutTheMagicLineThrow) {
+    // A file that assimp would hand to its PLY reader (by the extension, or by "ply" in any
+    // case near the start) must begin with the line "ply". The first of these, a mangled
+    // binary header, crashed assimp's reader.
+    const std::string mangled = std::string("plY\nformat binary_litt/le_endian 1.0\n") +
+                                "element vertex 4\nproperty float x\npro\x15perty Aloat y\n" +
+                                "property float?" + std::string(7, '\0') + "w" +
+                                std::string(1, '\0') + "y\nformat binarSt13runtime_" +
+                                std::string(3, '\0') + "\x03";
+    EXPECT_TRUE(rejects("mangled.ply", mangled));
+    EXPECT_TRUE(rejects("mangled.dat", mangled));
+    EXPECT_TRUE(rejects("leading-space.ply", " " + tetPlyAscii()));
+    EXPECT_TRUE(rejects("upper-case.ply", "PLY" + tetPlyAscii().substr(3)));
+    // A valid PLY file under another name is still read.
+    EXPECT_EQ(readMesh(writeFile("tet.dat", tetPlyAscii())).triangles.size(), 4u);
+}
+
 TEST(MeshReader, TruncatedFilesThrow) {
     const std::string stl = tetStlBinary();
     EXPECT_TRUE(rejects("truncated.stl", stl.substr(0, stl.size() - 30)));
