@@ -9,6 +9,7 @@
 #include <vdb/Grid.h>
 #include <vdb/Metadata.h>
 #include <vdb/math/Coord.h>
+#include <vdb/math/Mat4.h>
 #include <vdb/math/Transform.h>
 #include <vdb/math/Vec3.h>
 
@@ -18,6 +19,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <type_traits>
 
@@ -135,6 +137,25 @@ py::dict metaMapToDict(const MetaMap& map);
 /// Replaces the entries of `map` named by the keys of `dict`.
 void updateMetaMap(MetaMap& map, py::handle dict);
 
+// ---- Tool arguments
+
+/// A 4 x 4 matrix from any nested sequence or NumPy array of numbers (rows).
+/// @throw TypeError for anything else.
+math::Mat4d matrixFromPython(py::handle obj);
+
+/// The active topology of the grid `obj` (any grid type) as a MaskGrid with a copy of its
+/// transform; the grid itself when it is a MaskGrid. @throw TypeError naming `op` when `obj`
+/// is not a grid.
+std::shared_ptr<const MaskGrid> activeMask(py::handle obj, const char* op);
+
+/// `grid`, or TypeError naming `op` when Python's None arrived as a null grid pointer.
+template <typename PtrT>
+const PtrT& requireGrid(const PtrT& grid, const char* op) {
+    if (!grid)
+        throw py::type_error(std::string(op) + ": expected a grid, got None");
+    return grid;
+}
+
 // ---- Binding functions, one per source file
 
 void bindConvert(py::module_& m);
@@ -145,5 +166,9 @@ void bindBoolGrids(py::module_& m);
 void bindVecGrids(py::module_& m);
 void bindIo(py::module_& m);
 void bindTools(py::module_& m, py::module_& tools);
+void bindToolsFilter(py::module_& tools);
+void bindToolsLevelSet(py::module_& tools);
+void bindToolsSample(py::module_& tools);
+void bindToolsClip(py::module_& tools);
 
 }  // namespace vdb::python

@@ -140,8 +140,6 @@ void updateMetaMap(MetaMap& map, py::handle dict) {
 
 // ---- Module-level classes
 
-namespace {
-
 math::Mat4d matrixFromPython(py::handle obj) {
     auto rows = py::reinterpret_borrow<py::object>(obj);
     py::array_t<double, py::array::c_style | py::array::forcecast> a;
@@ -158,8 +156,6 @@ math::Mat4d matrixFromPython(py::handle obj) {
             m(r, c) = a.at(r, c);
     return m;
 }
-
-}  // namespace
 
 void bindConvert(py::module_& m) {
     py::enum_<math::Axis>(m, "Axis", "A coordinate axis, for Transform.rotate and shear.")

@@ -189,8 +189,13 @@ PYBIND11_MODULE(_vdb, m) {
     bindBoolGrids(m);
     bindVecGrids(m);
     bindIo(m);
-    py::module_ tools = m.def_submodule("tools", "Level set, morphology and CSG tools.");
+    py::module_ tools = m.def_submodule(
+        "tools", "Level set, filtering, sampling, statistics, clipping and compositing tools.");
     bindTools(m, tools);
+    bindToolsFilter(tools);
+    bindToolsLevelSet(tools);
+    bindToolsSample(tools);
+    bindToolsClip(tools);
 
     py::list types;
     for (const char* n : {"FloatGrid", "DoubleGrid", "Int32Grid", "Int64Grid", "BoolGrid",
