@@ -408,7 +408,8 @@ Mesh readMesh(const std::string& path) {
             if (!plyMagic)
                 fail(path, "not a PLY file: its first line is not \"ply\"");
             checkPly(path, in, fileSize);
-        } else if (head.find("OFF") != std::string::npos && head.find("OFF") < 4) {
+        } else if (ext == ".off" ||
+                   (head.find("OFF") != std::string::npos && head.find("OFF") < 4)) {
             checkOff(path, in, fileSize);
         } else if (ext == ".obj") {
             checkObj(path, in);

@@ -272,6 +272,9 @@ TEST(MeshReader, WrongCountsThrow) {
     EXPECT_TRUE(rejects("count.stl", tetStlBinary(/*declaredTriangles=*/9)));
     EXPECT_TRUE(rejects("count.ply", tetPlyAscii(/*declaredVertices=*/7)));
     EXPECT_TRUE(rejects("count.off", tetOff(/*declaredVertices=*/9)));
+    // Without the OFF keyword, the first line's counts are still checked (assimp's reader
+    // would reserve memory for them).
+    EXPECT_TRUE(rejects("no-keyword.off", std::string(55, '7') + "0 1 0\n0 0 1\n1 2 3\n"));
 }
 
 TEST(MeshReader, OutOfRangeIndicesThrow) {
