@@ -69,8 +69,9 @@ bool nextDataLine(std::istream& in, std::string& line, const char* comment) {
 /// Checks the vertex coordinates and face indices of one face record: `n` then n indices.
 void checkFace(const std::string& path, const std::vector<double>& v, size_t at,
                uint64_t vertexCount, uint64_t face) {
-    if (v.size() <= at || v[at] < 0 || v[at] != std::floor(v[at]) ||
-        v.size() < at + 1 + size_t(v[at]))
+    // The count is compared as a double before it becomes an integer: no conversion overflows.
+    if (v.size() <= at || !(v[at] >= 0) || v[at] != std::floor(v[at]) ||
+        !(v[at] <= double(v.size() - at - 1)))
         fail(path, "face " + std::to_string(face) + " is malformed");
     for (size_t k = 0; k < size_t(v[at]); ++k) {
         const double index = v[at + 1 + k];

@@ -275,6 +275,10 @@ TEST(MeshReader, WrongCountsThrow) {
     // Without the OFF keyword, the first line's counts are still checked (assimp's reader
     // would reserve memory for them).
     EXPECT_TRUE(rejects("no-keyword.off", std::string(55, '7') + "0 1 0\n0 0 1\n1 2 3\n"));
+    // A face whose vertex count is beyond any integer type.
+    std::string off = tetOff();
+    off.replace(off.rfind("3 1 2 3"), 7, "6666666666666666666666666666666666666666666666663 1 2 3");
+    EXPECT_TRUE(rejects("huge-face.off", off));
 }
 
 TEST(MeshReader, OutOfRangeIndicesThrow) {
