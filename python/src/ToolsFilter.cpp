@@ -86,6 +86,17 @@ private:
     LevelSetFilterSettings mSettings;
 };
 
+/// One constructor `P(grid)` for each of the grid types GridTs, each holding the grid as the
+/// variant alternative of its type.
+template <typename P, typename... GridTs>
+void defGridConstructors(py::class_<P>& c) {
+    (c.def(py::init([](typename GridTs::Ptr g) {
+               return P(std::in_place_type<GridTs>, requireGrid(g, "grid"));
+           }),
+           py::arg("grid")),
+     ...);
+}
+
 void bindLevelSetFilter(py::module_& t) {
     using P = PyLevelSetFilter;
     py::class_<P> c(t, "LevelSetFilter",
@@ -96,14 +107,7 @@ void bindLevelSetFilter(py::module_& t) {
                     "(1 - alpha) old + alpha new, alpha being the mask value mapped from "
                     "[minMask, maxMask] to [0, 1]. Raises ValueError for a grid without cubic "
                     "voxels or with a background that is not positive.");
-    c.def(py::init([](FloatGrid::Ptr g) {
-              return P(std::in_place_type<FloatGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
-    c.def(py::init([](DoubleGrid::Ptr g) {
-              return P(std::in_place_type<DoubleGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
+    defGridConstructors<P, FloatGrid, DoubleGrid>(c);
     c.def_property_readonly("grid", &P::grid, "the filtered grid");
     c.def(
         "mean",
@@ -194,24 +198,20 @@ void bindLevelSetFilter(py::module_& t) {
     c.def(
         "setSpatialScheme",
         [](P& f, math::BiasedGradientScheme s) {
-            if (!math::isSupported(s))
-                throw py::value_error(
-                    "setSpatialScheme: not implemented; use FIRST_BIAS, SECOND_BIAS, THIRD_BIAS "
-                    "or HJWENO5_BIAS");
+            tools::detail::checkSupported(s);  // the tracker's check: ValueError otherwise
             f.settings().spatial = s;
         },
         py::arg("scheme"),
         "setSpatialScheme(scheme): the upwind scheme of the renormalisation (FIRST_BIAS, "
-        "SECOND_BIAS, THIRD_BIAS or HJWENO5_BIAS, the default).");
+        "SECOND_BIAS, THIRD_BIAS or HJWENO5_BIAS, the default); WENO5_BIAS, which the library "
+        "does not compute, raises ValueError.");
     c.def(
         "getSpatialScheme", [](P& f) { return f.settings().spatial; },
         "getSpatialScheme() -> BiasedGradientScheme");
     c.def(
         "setTemporalScheme",
         [](P& f, math::TemporalIntegrationScheme s) {
-            if (!math::isSupported(s))
-                throw py::value_error(
-                    "setTemporalScheme: not implemented; use TVD_RK1, TVD_RK2 or TVD_RK3");
+            tools::detail::checkSupported(s);
             f.settings().temporal = s;
         },
         py::arg("scheme"),
@@ -284,18 +284,7 @@ void bindFilter(py::module_& t) {
                     "they are. An optional mask (a FloatGrid) blends old and new values as "
                     "(1 - alpha) old + alpha new, alpha being the mask value mapped from "
                     "[minMask, maxMask] to [0, 1].");
-    c.def(py::init([](FloatGrid::Ptr g) {
-              return P(std::in_place_type<FloatGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
-    c.def(py::init([](DoubleGrid::Ptr g) {
-              return P(std::in_place_type<DoubleGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
-    c.def(py::init([](Vec3SGrid::Ptr g) {
-              return P(std::in_place_type<Vec3SGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
+    defGridConstructors<P, FloatGrid, DoubleGrid, Vec3SGrid>(c);
     c.def_property_readonly("grid", &P::grid, "the filtered grid");
     c.def(
         "mean",
@@ -539,14 +528,7 @@ void bindLevelSetMeasure(py::module_& t) {
                     "set (FloatGrid or DoubleGrid), each computed on first request and kept; "
                     "call init(grid) after the grid changes. Raises ValueError for a grid that "
                     "is not a level set, is empty or has non-cubic voxels.");
-    c.def(py::init([](FloatGrid::Ptr g) {
-              return P(std::in_place_type<FloatGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
-    c.def(py::init([](DoubleGrid::Ptr g) {
-              return P(std::in_place_type<DoubleGrid>, requireGrid(g, "grid"));
-          }),
-          py::arg("grid"));
+    defGridConstructors<P, FloatGrid, DoubleGrid>(c);
     c.def_property_readonly("grid", &P::grid, "the measured grid");
     c.def(
         "init", [](P& m, FloatGrid::Ptr g) { m.init<FloatGrid>(requireGrid(g, "init")); },
