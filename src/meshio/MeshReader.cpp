@@ -73,6 +73,9 @@ void checkFace(const std::string& path, const std::vector<double>& v, size_t at,
     if (v.size() <= at || !(v[at] >= 0) || v[at] != std::floor(v[at]) ||
         !(v[at] <= double(v.size() - at - 1)))
         fail(path, "face " + std::to_string(face) + " is malformed");
+    // assimp's OFF reader crashes on a face without vertices; no format gives it a meaning.
+    if (v[at] < 1)
+        fail(path, "face " + std::to_string(face) + " has no vertices");
     for (size_t k = 0; k < size_t(v[at]); ++k) {
         const double index = v[at + 1 + k];
         if (!(index >= 0 && index < double(vertexCount)) || index != std::floor(index)) {

@@ -279,6 +279,9 @@ TEST(MeshReader, WrongCountsThrow) {
     std::string off = tetOff();
     off.replace(off.rfind("3 1 2 3"), 7, "6666666666666666666666666666666666666666666666663 1 2 3");
     EXPECT_TRUE(rejects("huge-face.off", off));
+    // A face without vertices (followed by more lines, it crashed assimp's OFF reader).
+    EXPECT_TRUE(
+        rejects("empty-face.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 1 0\n0 0 1\n"));
 }
 
 TEST(MeshReader, OutOfRangeIndicesThrow) {
