@@ -48,7 +48,8 @@ bool parseNumbers(const std::string& line, std::vector<double>& out) {
     while (in >> token) {
         char* end = nullptr;
         const double v = std::strtod(token.c_str(), &end);
-        if (end == token.c_str() || *end != '\0')
+        // The whole token: a NUL byte inside it ends strtod's string early.
+        if (end == token.c_str() || end != token.c_str() + token.size())
             return false;
         out.push_back(v);
     }

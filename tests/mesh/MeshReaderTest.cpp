@@ -314,6 +314,14 @@ TEST(MeshReader, OutOfRangeIndicesThrow) {
     }
 }
 
+TEST(MeshReader, NulBytesInAsciiRecordsThrowBeforeAssimpReadsThem) {
+    // A NUL byte inside a number of an ASCII PLY record: assimp's reader refused the file but
+    // leaked; the record check must refuse it first.
+    std::string nul = tetPlyAscii();
+    nul.insert(nul.find("end_header\n") + 11 + 5, std::string("\0J", 2));
+    EXPECT_TRUE(rejectsWith("nul.ply", nul, {"vertex record"}));
+}
+
 TEST(MeshReader, CountsBeyondWhatTheFileHoldsThrowBeforeAllocating) {
     // Binary PLY: 10^8 vertices of 12 bytes, 10^8 faces of at least 1 byte, 4e9 vertices.
     const std::string header = "ply\nformat binary_little_endian 1.0\n";
