@@ -12,7 +12,9 @@
 #include "ToolboxTestUtil.h"
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace vdb {
@@ -292,6 +294,54 @@ TEST(GridOperators, MagnitudeAndNormalizeWorkPointwiseAndKeepTiles) {
     EXPECT_NEAR(unit->tree().getValue(Coord(1, 1, 1))[0], 1.0 / 3.0, 1e-6);
     EXPECT_EQ(unit->getVectorType(), VEC_COVARIANT_NORMALIZE);
     EXPECT_TRUE(mag->transform() == grid->transform());
+}
+
+TEST(GridOperators, MagnitudeAndNormalizeOfFullLeavesEqualThePerVoxelDefinition) {
+    // Whole active leaves take a row path; it must give Vec3::length() and Vec3::normalize()
+    // bit for bit, including vectors too short to normalize, zeros of either sign, infinities
+    // and NaNs, and leave inactive voxels at the output's background.
+    const float inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const Vec3s special[] = {
+        Vec3s(0, 0, 0),      Vec3s(-0.0f, 0, -0.0f),        Vec3s(1e-9f, 0, 0),
+        Vec3s(0, -3e-9f, 0), Vec3s(1e-20f, 1e-20f, 1e-20f), Vec3s(inf, 0, 0),
+        Vec3s(nan, 1, 2),    Vec3s(-1e30f, 2e30f, 0),       Vec3s(1e-30f, 0, 0)};
+    auto grid = Vec3SGrid::create(Vec3s(0, 3, 4));
+    auto acc = grid->getAccessor();
+    uint32_t state = 12345;
+    const auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return float(int32_t(state >> 8) - (1 << 23)) / float(1 << 20);
+    };
+    forEachVoxel(CoordBBox(Coord(0), Coord(15)), [&](const Coord& ijk) {
+        const size_t k = size_t(ijk[0] * 256 + ijk[1] * 16 + ijk[2]);
+        acc.setValue(ijk, k % 7 == 0 ? special[(k / 7) % std::size(special)]
+                                     : Vec3s(next(), next(), next()));
+    });
+    acc.setValueOff(Coord(3, 4, 5));  // one leaf not fully active: the per-voxel path
+    auto mag = tools::magnitude(*grid);
+    auto unit = tools::normalize(*grid);
+    const auto same = [](float a, float b) {
+        return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b) ||
+               (std::isnan(a) && std::isnan(b));
+    };
+    auto macc = mag->getConstAccessor();
+    auto uacc = unit->getConstAccessor();
+    forEachVoxel(CoordBBox(Coord(0), Coord(15)), [&](const Coord& ijk) {
+        const Vec3s v = acc.getValue(ijk);
+        if (!acc.isValueOn(ijk)) {
+            ASSERT_FALSE(macc.isValueOn(ijk));
+            ASSERT_EQ(macc.getValue(ijk), mag->background());
+            ASSERT_EQ(uacc.getValue(ijk), unit->background());
+            return;
+        }
+        Vec3s n = v;
+        if (!n.normalize())
+            n = Vec3s(0.0f);
+        ASSERT_TRUE(same(macc.getValue(ijk), v.length())) << ijk;
+        for (int c = 0; c < 3; ++c)
+            ASSERT_TRUE(same(uacc.getValue(ijk)[c], n[c])) << ijk << " " << c;
+    });
 }
 
 TEST(GridOperators, ActiveTilesAreExpandedAndTheResultPruned) {

@@ -88,10 +88,22 @@ public:
     void setAuxBufferCount(Index count, bool threaded = true) {
         static_assert(!std::is_const_v<TreeT>, "temporal buffers need a non-const tree");
         static_assert(HAS_BUFFERS, "bool and mask leaves have no temporal buffers");
-        foreach ([count](auto& leaf, size_t) { leaf.setBufferCount(1 + count); }, threaded)
+        // A leaf that gains buffers gets them as copies of buffer 0; one that had them already
+        // has them refreshed. Either way each auxiliary buffer is written once.
+        foreach (
+            [count](auto& leaf, size_t) {
+                if (leaf.bufferCount() != 1 + count) {
+                    leaf.setBufferCount(1 + count);
+                    return;
+                }
+                for (Index b = 1; b <= count; ++b) {
+                    auto src = leaf.buffer(0);
+                    std::copy(src.begin(), src.end(), leaf.buffer(b).begin());
+                }
+            },
+            threaded)
             ;
         mAuxBuffers = count;
-        syncAuxBuffers(threaded);
     }
     /// Copies buffer 0 into every auxiliary buffer of every leaf.
     void syncAuxBuffers(bool threaded = true) {

@@ -238,6 +238,14 @@ struct MagnitudeKernel {
     using OutValueT = T;
     static constexpr bool POINTWISE = true;
     OutValueT operator()(const InValueT& v) const { return v.length(); }
+    /// operator() over 64 values, in loops the compiler vectorises (the square roots aside).
+    void row(const InValueT* in, OutValueT* out) const {
+        T sq[64];
+        for (int n = 0; n < 64; ++n)
+            sq[n] = in[n].lengthSqr();
+        for (int n = 0; n < 64; ++n)
+            out[n] = std::sqrt(sq[n]);
+    }
 };
 
 template <typename T>
@@ -246,6 +254,20 @@ struct NormalizeKernel {
     using OutValueT = math::Vec3<T>;
     static constexpr bool POINTWISE = true;
     OutValueT operator()(InValueT v) const { return v.normalize() ? v : InValueT(T(0)); }
+    /// operator() over 64 values with the same arithmetic (Vec3::normalize divides each
+    /// component by the length), in loops the compiler vectorises (the square roots aside):
+    /// every lane divides, by 1 where the vector is too short, so no division is conditional.
+    void row(const InValueT* in, OutValueT* out) const {
+        T len[64];
+        for (int n = 0; n < 64; ++n)
+            len[n] = std::sqrt(in[n].lengthSqr());
+        for (int n = 0; n < 64; ++n) {
+            const bool ok = len[n] > math::Tolerance<T>::value();
+            const T d = ok ? len[n] : T(1);
+            const T x = in[n][0] / d, y = in[n][1] / d, z = in[n][2] / d;
+            out[n] = InValueT(ok ? x : T(0), ok ? y : T(0), ok ? z : T(0));
+        }
+    }
 };
 
 // ---- The engine -------------------------------------------------------------------------------
@@ -336,25 +358,41 @@ std::shared_ptr<OutTreeT> applyKernel(const InTreeT& in, const MaskTreeT* mask,
                     andMask(*maskAcc, job.origin, states);
                 if (states.isOff())
                     continue;
-                auto leaf = std::make_unique<OutLeafT>(job.origin, background);
+                // Every value is written once: the kernel's where active, the background
+                // elsewhere (as a topology copy of the input would hold).
+                auto leaf = std::make_unique<OutLeafT>(tree::PartialCreate{}, job.origin);
+                leaf->setBufferCount(1);
                 leaf->setValueMask(states);
                 OutValueT* values = leaf->buffer(0).data();
                 const auto* words = states.words();
                 if constexpr (KernelT::POINTWISE) {
-                    const InValueT tile = job.leaf ? InValueT{} : acc.getValue(job.origin);
-                    const InValueT* src = job.leaf ? job.leaf->buffer(0).data() : nullptr;
-                    for (Index w = 0; w < states.WORD_COUNT; ++w) {
-                        for (uint64_t bits = words[w]; bits; bits &= bits - 1) {
-                            const Index n = (w << 6) + Index(std::countr_zero(bits));
-                            values[n] = kernel(src ? src[n] : tile);
+                    if (!job.leaf) {
+                        const OutValueT tile = kernel(acc.getValue(job.origin));
+                        for (Index n = 0; n < OutLeafT::NUM_VALUES; ++n)
+                            values[n] = states.isOn(n) ? tile : background;
+                    } else {
+                        const InValueT* src = job.leaf->buffer(0).data();
+                        for (Index w = 0; w < states.WORD_COUNT; ++w) {
+                            const uint64_t bits = words[w];
+                            OutValueT* row = values + (w << 6);
+                            const InValueT* in = src + (w << 6);
+                            if (bits == ~uint64_t(0)) {
+                                kernel.row(in, row);
+                            } else {
+                                for (Index n = 0; n < 64; ++n)
+                                    row[n] = (bits >> n) & 1u ? kernel(in[n]) : background;
+                            }
                         }
                     }
                 } else {
                     block->gather(job.origin, job.leaf, 0, acc);
                     const int sx = block->sx(), sy = block->sy();
                     for (Index w = 0; w < states.WORD_COUNT; ++w) {
-                        for (uint64_t bits = words[w]; bits; bits &= bits - 1) {
-                            const Index n = (w << 6) + Index(std::countr_zero(bits));
+                        const uint64_t bits = words[w];
+                        if (bits != ~uint64_t(0))
+                            std::fill_n(values + (w << 6), 64, background);
+                        for (uint64_t b = bits; b; b &= b - 1) {
+                            const Index n = (w << 6) + Index(std::countr_zero(b));
                             values[n] = kernel(BlockPoint<InValueT>{block->atOffset(n), sx, sy});
                         }
                     }
@@ -367,8 +405,8 @@ std::shared_ptr<OutTreeT> applyKernel(const InTreeT& in, const MaskTreeT* mask,
     auto result = std::make_shared<OutTreeT>(background);
     linkLeaves(*result, out, threaded);
     for (const TileRef& tile : keptTiles) {
-        result->fill(CoordBBox::createCube(tile.origin, tile.dim),
-                     constantFieldValue(kernel, in.getValue(tile.origin)), true);
+        result->addTile(tile.level, tile.origin,
+                        constantFieldValue(kernel, in.getValue(tile.origin)), true);
     }
     if (densify)
         prune(*result, OutValueT{}, threaded);
