@@ -14,7 +14,9 @@
 #include <Oracles.h>
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <vector>
@@ -142,6 +144,45 @@ TEST(Dense, ToleranceDecidesWhatIsBackground) {
     EXPECT_FALSE(tree.isValueOn(Coord(1, 2, 3)));
     EXPECT_EQ(tree.getValue(Coord(1, 2, 3)), 1.0f);
     EXPECT_EQ(tree.getValue(Coord(4, 5, 6)), 1.2f);
+}
+
+TEST(Dense, WholeContiguousBlocksFollowTheRuleForEverySpecialValue) {
+    // Whole leaf-aligned blocks of a z-contiguous array take a vectorised path; every voxel must
+    // still follow the rule: inactive background within the tolerance (NaN is within none),
+    // active with its own value otherwise. Backgrounds of +0, -0 and NaN; tolerances 0 and 0.25.
+    const float inf = std::numeric_limits<float>::infinity();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const CoordBBox box(Coord(-8, 0, 8), Coord(7, 15, 23));  // 2 x 2 x 2 whole leaves
+    for (const float bg : {0.0f, -0.0f, 1.0f, nan}) {
+        for (const float tol : {0.0f, 0.25f}) {
+            std::mt19937 rng(5);
+            const float special[] = {0.0f, -0.0f, 1.0f, 1.2f, 0.8f, 1.25f, 0.75f, inf, -inf, nan};
+            tools::Dense<float> dense(box);
+            for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i)
+                for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j)
+                    for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k)
+                        dense.setValue(Coord(i, j, k), rng() % 2
+                                                           ? special[rng() % std::size(special)]
+                                                           : float(int(rng() % 9) - 4) * 0.125f);
+            FloatTree tree(bg);
+            tree.setValueOn(Coord(0, 3, 9), 7.0f);  // an existing leaf, replaced
+            tools::copyFromDense(dense, tree, tol);
+            const auto same = [](float a, float b) {
+                return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b) ||
+                       (std::isnan(a) && std::isnan(b));
+            };
+            for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i)
+                for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j)
+                    for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k) {
+                        const Coord ijk{i, j, k};
+                        const float v = dense.getValue(ijk);
+                        const bool off = v == bg || std::abs(v - bg) <= tol;
+                        ASSERT_EQ(tree.isValueOn(ijk), !off) << ijk << " " << v << " " << bg;
+                        ASSERT_TRUE(same(tree.getValue(ijk), off ? bg : v))
+                            << ijk << " " << v << " " << bg;
+                    }
+        }
+    }
 }
 
 TEST(Dense, AllBackgroundBlockReplacesAnExistingLeaf) {

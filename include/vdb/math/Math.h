@@ -94,7 +94,8 @@ constexpr bool isApproxEqual(T a, T b, T tolerance) {
         using U = std::make_unsigned_t<T>;
         return a == b || (tolerance >= T(0) && absDiff(a, b) <= U(tolerance));
     } else {
-        return a == b || absDiff(a, b) <= tolerance;
+        // Both tests always (no short circuit): loops over values vectorise without branches.
+        return (a == b) | (absDiff(a, b) <= tolerance);
     }
 }
 /// As above with the default tolerance of `T` (OpenVDB's: 1e-8 for float, 1e-15 for double,

@@ -44,9 +44,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -181,6 +183,46 @@ auto& treeOf(T& sparse) {
     }
 }
 
+/// One dense row of floating-point values into a leaf row: values within `tol` of `bg` become
+/// `bg` with `on` 0, the others are kept with `on` 1 (for a NaN too: it is within no tolerance).
+/// Separate pointers, so that the compiler vectorises the loop.
+template <typename ValueT, typename SrcT>
+void denseRowToLeaf(const SrcT* __restrict src, ValueT* __restrict out, uint8_t* __restrict on,
+                    Index count, ValueT bg, ValueT tol) {
+    for (Index k = 0; k < count; ++k) {
+        const ValueT v = ValueT(src[k]);
+        out[k] = math::isApproxEqual(bg, v, tol) ? bg : v;
+    }
+    // Active: what was not replaced by the background (a value within the tolerance was; a NaN
+    // differs from everything).
+    for (Index k = 0; k < count; ++k)
+        on[k] = uint8_t(out[k] != bg);
+}
+
+/// Packs `count` (a multiple of 64) bytes of 0 or 1 into bits, eight at a time.
+template <typename Word>
+void packBits(const uint8_t* on, Index count, Word* words) {
+    static_assert(sizeof(Word) == 8);
+    for (Index w = 0; w < count / 64; ++w) {
+        Word bits = 0;
+        for (Index g = 0; g < 8; ++g) {
+            const uint8_t* b = on + w * 64 + g * 8;
+            uint64_t x;
+            if constexpr (std::endian::native == std::endian::little) {
+                std::memcpy(&x, b, 8);
+                // Byte k (0 or 1) lands on bit 56 + k; the other products stay below bit 56.
+                x = (x * 0x0102040810204080ull) >> 56;
+            } else {
+                x = 0;
+                for (Index k = 0; k < 8; ++k)
+                    x |= uint64_t(b[k]) << k;
+            }
+            bits |= Word(x) << (g * 8);
+        }
+        words[w] = bits;
+    }
+}
+
 /// The leaf-aligned blocks of `bbox`: each the part of `bbox` inside one leaf of edge `dim`.
 inline std::vector<CoordBBox> leafBlocks(const CoordBBox& bbox, Int32 dim) {
     std::vector<CoordBBox> blocks;
@@ -224,14 +266,20 @@ void copyToDense(const GridOrTreeT& sparse, DenseT& dense, bool serial) {
                     for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j) {
                         DenseValueT* row = &dense.getValue(Coord(i, j, box.min()[2]));
                         if (!leaf) {
-                            for (Int32 k = 0; k < depth; ++k, row += step)
-                                *row = tile;
+                            if (step == 1) {
+                                std::fill_n(row, depth, tile);
+                            } else {
+                                for (Int32 k = 0; k < depth; ++k, row += step)
+                                    *row = tile;
+                            }
                             continue;
                         }
                         const Index n = LeafT::coordToOffset(Coord(i, j, box.min()[2]));
                         if constexpr (kArrayLeaf) {
                             const ValueT* in = leaf->buffer(0).data() + n;
-                            if (step == 1) {
+                            if (step == 1 && std::is_same_v<DenseValueT, ValueT>) {
+                                std::memcpy(row, in, size_t(depth) * sizeof(ValueT));
+                            } else if (step == 1) {
                                 for (Int32 k = 0; k < depth; ++k)
                                     row[k] = DenseValueT(in[k]);
                             } else {
@@ -271,6 +319,7 @@ void copyFromDense(const DenseT& dense, GridOrTreeT& sparse,
     const std::vector<CoordBBox> boxes = detail::leafBlocks(dense.bbox(), Int32(LeafT::DIM));
     std::vector<Block> blocks(boxes.size());
     const ValueT background = tree.background();
+    const ValueT bg = background, tol = tolerance;  // by value: no aliasing with the outputs
     const std::ptrdiff_t zStride = dense.zStride();
     util::parallelForRange(
         blocks.size(),
@@ -311,19 +360,37 @@ void copyFromDense(const DenseT& dense, GridOrTreeT& sparse,
                         // Every voxel from the dense values: values and mask words at once.
                         ValueT* out = leaf.buffer(0).data();
                         Word* words = leaf.getValueMask().words();
-                        std::fill_n(words, LeafT::MaskType::WORD_COUNT, Word(0));
-                        Index n = 0;
-                        for (Int32 i = 0; i < Int32(LeafT::DIM); ++i)
-                            for (Int32 j = 0; j < Int32(LeafT::DIM); ++j) {
-                                const auto* src = &dense.getValue(origin.offsetBy(i, j, 0));
-                                for (Index k = 0; k < LeafT::DIM; ++k, ++n, src += zStride) {
-                                    const ValueT v = ValueT(*src);
-                                    const bool on = !math::isApproxEqual(background, v, tolerance);
-                                    out[n] = on ? v : background;
-                                    words[n >> 6] |= Word(on) << (n & 63);
-                                }
+                        if constexpr (std::is_floating_point_v<ValueT>) {
+                            if (zStride == 1) {
+                                // Contiguous rows: vectorised loops, then the mask from bytes.
+                                uint8_t on[LeafT::NUM_VALUES];
+                                constexpr Index DIM = LeafT::DIM;
+                                for (Index i = 0; i < DIM; ++i)
+                                    for (Index j = 0; j < DIM; ++j) {
+                                        const Index n = (i * DIM + j) * DIM;
+                                        detail::denseRowToLeaf(
+                                            &dense.getValue(origin.offsetBy(Int32(i), Int32(j), 0)),
+                                            out + n, on + n, DIM, bg, tol);
+                                    }
+                                detail::packBits(on, LeafT::NUM_VALUES, words);
+                                written = true;
                             }
-                        written = true;
+                        }
+                        if (!written) {
+                            std::fill_n(words, LeafT::MaskType::WORD_COUNT, Word(0));
+                            Index n = 0;
+                            for (Int32 i = 0; i < Int32(LeafT::DIM); ++i)
+                                for (Int32 j = 0; j < Int32(LeafT::DIM); ++j) {
+                                    const auto* src = &dense.getValue(origin.offsetBy(i, j, 0));
+                                    for (Index k = 0; k < LeafT::DIM; ++k, ++n, src += zStride) {
+                                        const ValueT v = ValueT(*src);
+                                        const bool on = !math::isApproxEqual(bg, v, tol);
+                                        out[n] = on ? v : bg;
+                                        words[n >> 6] |= Word(on) << (n & 63);
+                                    }
+                                }
+                            written = true;
+                        }
                     }
                 }
                 if (!written) {
