@@ -134,12 +134,6 @@ inline std::string joined(const std::vector<double>& v) {
     return s;
 }
 
-inline double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n == 0 ? std::nan("") : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /// Runs the comparison of the file comment, printing a line per run to stdout and adding its
 /// tables and notes to `md`; `ratios` receives every wall-clock ratio. Returns false when a
 /// tool failed on a file it should render.
