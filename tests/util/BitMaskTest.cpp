@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -215,6 +216,28 @@ TYPED_TEST(BitMaskTyped, WordwiseOperatorsMatchOracle) {
         wo[n] = true;
     expectMatches(w, wo);
     EXPECT_EQ(w.words(), &w.getWord(0));
+}
+
+template <Index N>
+void expectSetFromBytesMatchesSettingBits(uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::vector<uint8_t> flags(N);
+    for (int pattern = 0; pattern < 4; ++pattern) {
+        for (Index n = 0; n < N; ++n)
+            flags[n] = pattern == 0 ? 0 : pattern == 1 ? 1 : uint8_t(rng() % (pattern + 1) == 0);
+        BitMask<N> expected, mask(true);
+        for (Index n = 0; n < N; ++n)
+            expected.set(n, flags[n] != 0);
+        mask.setFromBytes(flags.data());
+        EXPECT_TRUE(mask == expected) << N << " " << pattern;
+        EXPECT_EQ(mask.countOn(), Index(std::count(flags.begin(), flags.end(), uint8_t(1))));
+    }
+}
+
+TEST(BitMask, SetFromBytesSetsEachBitFromItsByte) {
+    expectSetFromBytesMatchesSettingBits<64>(1);
+    expectSetFromBytesMatchesSettingBits<512>(2);
+    expectSetFromBytesMatchesSettingBits<4096>(3);
 }
 
 TEST(BitMask, SupportsConstantEvaluation) {

@@ -44,7 +44,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
@@ -199,30 +198,6 @@ void denseRowToLeaf(const SrcT* __restrict src, ValueT* __restrict out, uint8_t*
         on[k] = uint8_t(out[k] != bg);
 }
 
-/// Packs `count` (a multiple of 64) bytes of 0 or 1 into bits, eight at a time.
-template <typename Word>
-void packBits(const uint8_t* on, Index count, Word* words) {
-    static_assert(sizeof(Word) == 8);
-    for (Index w = 0; w < count / 64; ++w) {
-        Word bits = 0;
-        for (Index g = 0; g < 8; ++g) {
-            const uint8_t* b = on + w * 64 + g * 8;
-            uint64_t x;
-            if constexpr (std::endian::native == std::endian::little) {
-                std::memcpy(&x, b, 8);
-                // Byte k (0 or 1) lands on bit 56 + k; the other products stay below bit 56.
-                x = (x * 0x0102040810204080ull) >> 56;
-            } else {
-                x = 0;
-                for (Index k = 0; k < 8; ++k)
-                    x |= uint64_t(b[k]) << k;
-            }
-            bits |= Word(x) << (g * 8);
-        }
-        words[w] = bits;
-    }
-}
-
 /// The leaf-aligned blocks of `bbox`: each the part of `bbox` inside one leaf of edge `dim`.
 inline std::vector<CoordBBox> leafBlocks(const CoordBBox& bbox, Int32 dim) {
     std::vector<CoordBBox> blocks;
@@ -372,7 +347,7 @@ void copyFromDense(const DenseT& dense, GridOrTreeT& sparse,
                                             &dense.getValue(origin.offsetBy(Int32(i), Int32(j), 0)),
                                             out + n, on + n, DIM, bg, tol);
                                     }
-                                detail::packBits(on, LeafT::NUM_VALUES, words);
+                                leaf.getValueMask().setFromBytes(on);
                                 written = true;
                             }
                         }

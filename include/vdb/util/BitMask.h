@@ -11,6 +11,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <iterator>
 
 namespace vdb::util {
@@ -55,6 +56,31 @@ public:
     constexpr void toggle(Index n) {
         VDB_ASSERT(n < SIZE);
         mWords[n >> 6] ^= Word(1) << (n & 63);
+    }
+
+    /// Sets bit n to `flags[n]` for every n: the bridge from loops that compute one byte, 0 or
+    /// 1, per bit (which compilers vectorise, where setting bits one by one does not).
+    /// @pre every flags[n] is 0 or 1
+    void setFromBytes(const uint8_t* flags) {
+        for (Index w = 0; w < WORD_COUNT; ++w) {
+            Word bits = 0;
+            for (Index g = 0; g < 8; ++g) {
+                const uint8_t* b = flags + w * 64 + g * 8;
+                uint64_t x;
+                if constexpr (std::endian::native == std::endian::little) {
+                    std::memcpy(&x, b, 8);
+                    // Byte k lands on bit 56 + k; the other partial products stay below bit 56
+                    // (their exponents are distinct, so nothing carries).
+                    x = (x * 0x0102040810204080ull) >> 56;
+                } else {
+                    x = 0;
+                    for (Index k = 0; k < 8; ++k)
+                        x |= uint64_t(b[k] & 1u) << k;
+                }
+                bits |= Word(x) << (g * 8);
+            }
+            mWords[w] = bits;
+        }
     }
 
     // ---- Whole mask

@@ -196,15 +196,12 @@ void sdfToFogVolume(GridT& grid, typename GridT::ValueType cutoff) {
         leaves.foreach (
             [weight](LeafT& leaf, size_t) {
                 ValueT* v = leaf.buffer(0).data();
-                typename LeafT::MaskType on;
-                for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
-                    const ValueT fog =
-                        v[n] > ValueT(0) ? ValueT(0) : std::min(v[n] * weight, ValueT(1));
-                    v[n] = fog;
-                    if (fog > ValueT(0))
-                        on.setOn(n);
-                }
-                leaf.setValueMask(on);
+                uint8_t on[LeafT::NUM_VALUES];  // loops without branches: they vectorise
+                for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+                    v[n] = v[n] > ValueT(0) ? ValueT(0) : std::min(v[n] * weight, ValueT(1));
+                for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+                    on[n] = uint8_t(v[n] > ValueT(0));
+                leaf.getValueMask().setFromBytes(on);
             },
             true);
         forEachTile(
