@@ -190,6 +190,34 @@ TEST(MeshToVolume, UnsignedDistancesMatchBruteForce) {
     EXPECT_FLOAT_EQ(grid->tree().getValue(Coord(0, 0, 0)), 0.25f);
 }
 
+TEST(MeshToVolume, DenseTiltedMeshesFarFromTheOriginMatchBruteForce) {
+    // Dense meshes take the per-voxel queries, whose hierarchy bounds each node's triangles
+    // by an axis-aligned box and by a box along their mean normal: a tilted plate (a thin
+    // oriented box), and a dense sphere at index coordinates near 1e6 (where the rounding of
+    // the oriented boxes is largest).
+    const double dx = 0.1;
+    MeshToVolumeOptions options;
+    options.exteriorBandWidth = 5.0f;
+    options.interiorBandWidth = 5.0f;
+    {
+        TestMesh plate = test::makeCubeMesh(Vec3d(-0.8, -0.8, -0.8), 1.6, 16, /*quads=*/false);
+        const double c = std::cos(0.6), s = std::sin(0.6), c2 = std::cos(0.4), s2 = std::sin(0.4);
+        for (Vec3s& q : plate.points) {
+            Vec3d p(q[0], q[1], 0.3 * q[2]);  // the cube flattened into a plate
+            p = Vec3d(c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]);
+            q = Vec3s(Vec3d(p[0], c2 * p[1] - s2 * p[2], s2 * p[1] + c2 * p[2]));
+        }
+        const auto grid = convert(plate, dx, options);
+        EXPECT_TRUE(matchesOracle(*grid, test::toIndexSpace(plate, dx), dx, {5.0, 5.0, true, 7}));
+    }
+    {
+        TestMesh sphere = test::makeSphereMesh(Vec3d(0.0), 0.8, 24, 48);
+        sphere.translate(Vec3d(1.0e5, -2.0e5, 0.5e5));
+        const auto grid = convert(sphere, dx, options);
+        EXPECT_TRUE(matchesOracle(*grid, test::toIndexSpace(sphere, dx), dx, {5.0, 5.0, true, 7}));
+    }
+}
+
 TEST(MeshToVolume, MeshFarFromTheOriginMatchesBruteForce) {
     // World coordinates near 1e5 (index coordinates near 1e6): the points are floats, the
     // index-space arithmetic is double.

@@ -39,6 +39,13 @@ namespace vdb::tools::detail {
 
 // ---- Point-triangle distance ----
 
+/// How far x lies outside [lo, hi] (lo <= hi); 0 within.
+inline double intervalGap(double x, double lo, double hi) {
+    const double below = lo - x, above = x - hi;
+    const double g = below < above ? above : below;
+    return g < 0.0 ? 0.0 : g;
+}
+
 /// A triangle (a, b, c) prepared for squared-distance queries, in index space. Queries pass
 /// the query point relative to `a`, so that far from the origin no precision is lost.
 struct DistanceTriangle {
@@ -98,6 +105,61 @@ struct DistanceTriangle {
         const double ebc = (pp - 2.0 * d1 + abab) - ubc * (2.0 * d3 - ubc * bcbc);
         return std::max(0.0, std::min(eab, std::min(eac, ebc)));
     }
+
+    /// row[k] = min(row[k], sqrDistance(p_k - a)) for k in [k0, k1], p_k = (x, y, z0 + k): the
+    /// same arithmetic as sqrDistance, so the same values, evaluated for a whole row of N
+    /// voxels without branches and kept only within [k0, k1]. GCC turns the selects of the
+    /// loop into vector blends only where it may ignore floating-point exceptions (which
+    /// changes no value); Clang does by default.
+    template <int N>
+#if defined(__GNUC__) && !defined(__clang__)
+    __attribute__((optimize("no-trapping-math")))
+#endif
+    void
+    minSqrDistanceRow(Int32 x, Int32 y, Int32 z0, Int32 k0, Int32 k1, double* row) const {
+        // Scalars only in the loop: with its own optimisation options, this function inlines
+        // nothing (not even Vec3's accessors or a lambda).
+        const double ax = double(x) - a[0], ay = double(y) - a[1], a2 = a[2];
+        const double abxy = ab[0] * ax + ab[1] * ay, acxy = ac[0] * ax + ac[1] * ay;
+        const double bcxy = bc[0] * ax + bc[1] * ay, nxy = n[0] * ax + n[1] * ay;
+        const double ab2 = ab[2], ac2 = ac[2], bc2 = bc[2], n2 = n[2];
+        const double ppxy = ax * ax + ay * ay;
+        const double abab_ = abab, acac_ = acac, abac_ = abac, bcbc_ = bcbc, abbc_ = abbc;
+        const double invAbab_ = invAbab, invAcac_ = invAcac, invBcbc_ = invBcbc;
+        const double invDet_ = invDet, invNN_ = invNN;
+        const bool hasFace_ = hasFace;
+        for (int k = 0; k < N; ++k) {
+            const double az = double(z0 + k) - a2;
+            const double d1 = abxy + ab2 * az, d2 = acxy + ac2 * az;
+            const double pp = ppxy + az * az;
+            const double s = (acac_ * d1 - abac_ * d2) * invDet_;
+            const double t = (abab_ * d2 - abac_ * d1) * invDet_;
+            const double pn = nxy + n2 * az;
+            const double face = pn * pn * invNN_;
+            // std::clamp(u, 0.0, 1.0), std::min and std::max, written as selects on values.
+            double uab = d1 * invAbab_;
+            uab = uab < 0.0 ? 0.0 : uab;
+            uab = 1.0 < uab ? 1.0 : uab;
+            const double eab = pp - uab * (2.0 * d1 - uab * abab_);
+            double uac = d2 * invAcac_;
+            uac = uac < 0.0 ? 0.0 : uac;
+            uac = 1.0 < uac ? 1.0 : uac;
+            const double eac = pp - uac * (2.0 * d2 - uac * acac_);
+            const double d3 = (bcxy + bc2 * az) - abbc_;
+            double ubc = d3 * invBcbc_;
+            ubc = ubc < 0.0 ? 0.0 : ubc;
+            ubc = 1.0 < ubc ? 1.0 : ubc;
+            const double ebc = (pp - 2.0 * d1 + abab_) - ubc * (2.0 * d3 - ubc * bcbc_);
+            const double eMin = ebc < eac ? ebc : eac;
+            const double e = eMin < eab ? eMin : eab;
+            const double edge = 0.0 < e ? e : 0.0;
+            const bool onFace = hasFace_ & (s >= 0.0) & (t >= 0.0) & (s + t <= 1.0);
+            const double d = onFace ? face : edge;
+            const double old = row[k];
+            const double lower = d < old ? d : old;
+            row[k] = (k >= k0) & (k <= k1) ? lower : old;
+        }
+    }
 };
 
 /// A bounding volume hierarchy over a set of DistanceTriangles for nearest-distance queries:
@@ -118,36 +180,43 @@ public:
         mNodes.emplace_back();
         if (!tris.empty())
             split(0, 0, uint32_t(tris.size()));
+        // The triangles in the order of the leaves, so that a leaf's lie side by side.
+        mSorted.reserve(tris.size());
+        for (uint32_t t : mOrder)
+            mSorted.push_back(tris[t]);
     }
 
     /// min(bound2, the smallest squared distance from `p` to a triangle). Every triangle whose
     /// box may come within the bound is evaluated with DistanceTriangle::sqrDistance(p - a),
     /// so the result equals the minimum over all triangles of that same expression.
-    /// `hint` (in and out): a triangle index to evaluate first, the closest one's on return
-    /// (unchanged when none comes within the bound); a neighbour's closest triangle makes the
-    /// bound tight from the start.
+    /// `hint` (in and out): a triangle to evaluate first (as returned by an earlier query; any
+    /// value out of range for none), the closest one on return (unchanged when none comes
+    /// within the bound); a neighbour's closest triangle makes the bound tight from the start.
     double minSqrDistance(const Vec3d& p, double bound2, uint32_t& hint) const {
         if (mOrder.empty())
             return bound2;
         double best = bound2;
-        if (hint < mTris->size()) {
-            const DistanceTriangle& tri = (*mTris)[hint];
+        if (hint < mSorted.size()) {
+            const DistanceTriangle& tri = mSorted[hint];
             best = std::min(best, tri.sqrDistance(p - tri.a));
         }
-        std::array<uint32_t, 96> stack;
+        // Nodes to visit with their lower bounds, computed once: a node is skipped when its
+        // bound exceeds the best distance found so far.
+        std::array<std::pair<uint32_t, double>, 96> stack;
         size_t top = 0;
-        stack[top++] = 0;
+        stack[top++] = {0u, lowerBound(mNodes[0], p)};
         while (top > 0) {
-            const Node& node = mNodes[stack[--top]];
-            if (prunes(node, p, best))
+            const auto [index, bound] = stack[--top];
+            if (prunes(bound, best))
                 continue;
+            const Node& node = mNodes[index];
             if (node.count > 0) {
                 for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-                    const DistanceTriangle& tri = (*mTris)[mOrder[i]];
+                    const DistanceTriangle& tri = mSorted[i];
                     const double d2 = tri.sqrDistance(p - tri.a);
                     if (d2 < best) {
                         best = d2;
-                        hint = mOrder[i];
+                        hint = i;
                     }
                 }
                 continue;
@@ -155,34 +224,98 @@ public:
             // The nearer child is visited first: pushed last.
             const double l0 = lowerBound(mNodes[node.first], p);
             const double l1 = lowerBound(mNodes[node.first + 1], p);
-            const uint32_t nearChild = l0 <= l1 ? node.first : node.first + 1;
-            const uint32_t farChild = l0 <= l1 ? node.first + 1 : node.first;
-            stack[top++] = farChild;
-            stack[top++] = nearChild;
+            const bool firstNear = l0 <= l1;
+            const std::pair<uint32_t, double> nearChild{node.first + (firstNear ? 0u : 1u),
+                                                        firstNear ? l0 : l1};
+            const std::pair<uint32_t, double> farChild{node.first + (firstNear ? 1u : 0u),
+                                                       firstNear ? l1 : l0};
+            if (!prunes(farChild.second, best))
+                stack[top++] = farChild;
+            if (!prunes(nearChild.second, best))
+                stack[top++] = nearChild;
         }
         return best;
     }
 
 private:
     struct Node {
-        Vec3d lo, hi;
+        Vec3d lo, hi;  // axis-aligned box
+        // Oriented box: orthonormal axes, the first along the triangles' mean normal, and the
+        // range of (vertex - center) . axis[i] over the vertices, padded for rounding. Where
+        // the triangles of a node form a nearly flat patch (small triangles of a smooth
+        // surface), this box is thin and bounds the distance far better than the axis-aligned
+        // one once the patch is tilted.
+        Vec3d center;
+        std::array<Vec3d, 3> axis;
+        Vec3d olo, ohi;
         uint32_t first = 0;  // a leaf: the first index into mOrder; else the first child
         uint32_t count = 0;  // triangles of a leaf; 0 for an inner node
     };
 
-    static double lowerBound(const Node& node, const Vec3d& p) {
-        double d2 = 0.0;
-        for (int i = 0; i < 3; ++i) {
-            const double g = std::max({node.lo[i] - p[i], 0.0, p[i] - node.hi[i]});
-            d2 += g * g;
+    void orient(Node& node, uint32_t first, uint32_t last) const {
+        const auto& tris = *mTris;
+        node.center = 0.5 * (node.lo + node.hi);
+        // The mean normal, each triangle's normal (length twice its area) turned towards the
+        // largest one's.
+        Vec3d ref(0.0);
+        for (uint32_t i = first; i < last; ++i) {
+            const Vec3d& n = tris[mOrder[i]].n;
+            if (n.lengthSqr() > ref.lengthSqr())
+                ref = n;
         }
-        return d2;
+        Vec3d mean(0.0);
+        for (uint32_t i = first; i < last; ++i) {
+            const Vec3d& n = tris[mOrder[i]].n;
+            mean += n.dot(ref) < 0.0 ? -n : n;
+        }
+        const double len = mean.length();
+        if (!(len > 0.0) || !std::isfinite(len)) {
+            node.axis = {Vec3d(1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1)};
+        } else {
+            const Vec3d w = mean / len;
+            const Vec3d t = std::abs(w[0]) < 0.6 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
+            const Vec3d u = w.cross(t).unitSafe();
+            node.axis = {w, u, w.cross(u)};
+        }
+        node.olo = Vec3d(std::numeric_limits<double>::max());
+        node.ohi = Vec3d(-std::numeric_limits<double>::max());
+        for (uint32_t i = first; i < last; ++i) {
+            const DistanceTriangle& t = tris[mOrder[i]];
+            for (const Vec3d& v : {t.a, t.a + t.ab, t.a + t.ac}) {
+                const Vec3d q = v - node.center;
+                for (int k = 0; k < 3; ++k) {
+                    const double x = node.axis[k].dot(q);
+                    node.olo[k] = std::min(node.olo[k], x);
+                    node.ohi[k] = std::max(node.ohi[k], x);
+                }
+            }
+        }
+        // Rounding in the projections of the vertices and of query points: a margin far above
+        // it, relative to the node's size and to its distance from the origin.
+        double reach = 0.0;
+        for (int k = 0; k < 3; ++k)
+            reach = std::max({reach, std::abs(node.lo[k]), std::abs(node.hi[k])});
+        const double pad = 1e-9 * (1.0 + (node.hi - node.lo).length() + reach);
+        node.olo -= Vec3d(pad);
+        node.ohi += Vec3d(pad);
+    }
+
+    // The larger of the squared distances from `p` to the node's axis-aligned box and to its
+    // oriented box: both hold every triangle of the node.
+    static double lowerBound(const Node& node, const Vec3d& p) {
+        double d2 = 0.0, e2 = 0.0;
+        const Vec3d q = p - node.center;
+        for (int i = 0; i < 3; ++i) {
+            const double g = intervalGap(p[i], node.lo[i], node.hi[i]);
+            d2 += g * g;
+            const double h = intervalGap(node.axis[i].dot(q), node.olo[i], node.ohi[i]);
+            e2 += h * h;
+        }
+        return d2 < e2 ? e2 : d2;
     }
     // A node is skipped when its box is farther than the best distance; the relative margin
     // keeps a triangle whose computed distance rounds below its box's computed bound.
-    static bool prunes(const Node& node, const Vec3d& p, double best) {
-        return lowerBound(node, p) * (1.0 - 1e-12) > best;
-    }
+    static bool prunes(double bound, double best) { return bound * (1.0 - 1e-12) > best; }
 
     void split(uint32_t index, uint32_t first, uint32_t last) {
         const auto& tris = *mTris;
@@ -198,6 +331,7 @@ private:
         }
         mNodes[index].lo = lo;
         mNodes[index].hi = hi;
+        orient(mNodes[index], first, last);
         if (last - first <= LEAF_SIZE) {
             mNodes[index].first = first;
             mNodes[index].count = last - first;
@@ -223,6 +357,7 @@ private:
     const std::vector<DistanceTriangle>* mTris;
     std::vector<Node> mNodes;
     std::vector<uint32_t> mOrder;
+    std::vector<DistanceTriangle> mSorted;
 };
 
 // ---- Scanline crossings ----
@@ -881,24 +1016,43 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                     if (!bvh)
                         bvh = std::make_unique<TriangleBvh>(tris);
                     uint32_t hint = ~uint32_t(0);
-                    for (Int32 i = 0; i < LEAF_DIM; ++i) {
-                        for (Int32 j = 0; j < LEAF_DIM; ++j) {
-                            const Index row = LeafT::coordToOffset(Coord(i, j, 0));
-                            double previous = band2;
-                            for (Int32 k = 0; k < LEAF_DIM; ++k) {
-                                const Vec3d xyz(leafOrigin.offsetBy(i, j, k));
-                                // |d(v) - d(u)| <= 1 for neighbours: a bound that holds with
-                                // room for rounding.
-                                const double lipschitz =
-                                    previous < band2
-                                        ? std::min(band2, (std::sqrt(previous) + 1.0 + 1e-6) *
-                                                              (std::sqrt(previous) + 1.0 + 1e-6))
-                                        : band2;
-                                double d2 = bvh->minSqrDistance(xyz, lipschitz, hint);
-                                if (d2 >= lipschitz && lipschitz < band2)
-                                    d2 = bvh->minSqrDistance(xyz, band2, hint);
-                                dist2[row + Index(k)] = d2;
-                                previous = d2;
+                    // Cubes of SUB^3 voxels whose centre lies farther than the band plus the
+                    // cube's half diagonal from every triangle hold no voxel of the band: one
+                    // query settles them.
+                    constexpr Int32 SUB = LEAF_DIM >= 4 ? LEAF_DIM / 2 : LEAF_DIM;
+                    const double cubeReach = band + 0.5 * double(SUB - 1) * std::sqrt(3.0) + 1e-6;
+                    const double cubeReach2 = cubeReach * cubeReach;
+                    for (Int32 si = 0; si < LEAF_DIM; si += SUB) {
+                        for (Int32 sj = 0; sj < LEAF_DIM; sj += SUB) {
+                            for (Int32 sk = 0; sk < LEAF_DIM; sk += SUB) {
+                                const Vec3d center = Vec3d(leafOrigin.offsetBy(si, sj, sk)) +
+                                                     Vec3d(0.5 * double(SUB - 1));
+                                const bool empty =
+                                    bvh->minSqrDistance(center, cubeReach2, hint) >= cubeReach2;
+                                for (Int32 i = si; i < si + SUB; ++i) {
+                                    for (Int32 j = sj; j < sj + SUB; ++j) {
+                                        const Index row = LeafT::coordToOffset(Coord(i, j, 0));
+                                        double previous = band2;
+                                        for (Int32 k = sk; k < sk + SUB; ++k) {
+                                            if (empty) {
+                                                dist2[row + Index(k)] = band2;
+                                                continue;
+                                            }
+                                            const Vec3d xyz(leafOrigin.offsetBy(i, j, k));
+                                            // |d(v) - d(u)| <= 1 for neighbours: a bound that
+                                            // holds with room for rounding.
+                                            const double root = std::sqrt(previous) + 1.0 + 1e-6;
+                                            const double lipschitz =
+                                                previous < band2 ? std::min(band2, root * root)
+                                                                 : band2;
+                                            double d2 = bvh->minSqrDistance(xyz, lipschitz, hint);
+                                            if (d2 >= lipschitz && lipschitz < band2)
+                                                d2 = bvh->minSqrDistance(xyz, band2, hint);
+                                            dist2[row + Index(k)] = d2;
+                                            previous = d2;
+                                        }
+                                    }
+                                }
                             }
                         }
                     }
@@ -913,12 +1067,10 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                     const double nLen = tri.hasFace ? std::sqrt(1.0 / tri.invNN) : 0.0;
                     for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i) {
                         const double ax = double(i) - tri.a[0];
-                        const double gx =
-                            std::max({tri.lo[0] - double(i), 0.0, double(i) - tri.hi[0]});
+                        const double gx = intervalGap(double(i), tri.lo[0], tri.hi[0]);
                         for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j) {
                             const double ay = double(j) - tri.a[1];
-                            const double gy =
-                                std::max({tri.lo[1] - double(j), 0.0, double(j) - tri.hi[1]});
+                            const double gy = intervalGap(double(j), tri.lo[1], tri.hi[1]);
                             // The z range within reach of the triangle's box...
                             const double rest = band2 - gx * gx - gy * gy;
                             if (rest <= 0.0)
@@ -942,13 +1094,12 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                             }
                             const Int32 k0 = std::max(box.min()[2], Int32(std::ceil(zLo)));
                             const Int32 k1 = std::min(box.max()[2], Int32(std::floor(zHi)));
+                            if (k0 > k1)
+                                continue;
                             const Index row = LeafT::coordToOffset(Coord(i, j, 0));
-                            for (Int32 k = k0; k <= k1; ++k) {
-                                const double d2 =
-                                    tri.sqrDistance(Vec3d(ax, ay, double(k) - tri.a[2]));
-                                double& slot = dist2[row + Index(k - leafOrigin[2])];
-                                slot = std::min(slot, d2);
-                            }
+                            tri.template minSqrDistanceRow<LEAF_DIM>(
+                                i, j, leafOrigin[2], k0 - leafOrigin[2], k1 - leafOrigin[2],
+                                &dist2[row]);
                         }
                     }
                 }
