@@ -259,7 +259,8 @@ void checkPly(const std::string& path, std::istream& in, uint64_t fileSize) {
                     fail(path, e.name + " " + std::to_string(n) + " has too few values");
                 if (int(p) == e.indexList && e.name == "face")
                     checkFace(path, v, at, vertexCount, n);
-                at += e.isList[p] ? 1 + size_t(std::max(0.0, v[at])) : 1;
+                at +=
+                    e.isList[p] ? 1 + size_t(std::min(std::max(0.0, v[at]), double(v.size()))) : 1;
             }
             if (at != v.size()) {
                 fail(path, e.name + " " + std::to_string(n) + " has " + std::to_string(v.size()) +
