@@ -105,61 +105,6 @@ struct DistanceTriangle {
         const double ebc = (pp - 2.0 * d1 + abab) - ubc * (2.0 * d3 - ubc * bcbc);
         return std::max(0.0, std::min(eab, std::min(eac, ebc)));
     }
-
-    /// row[k] = min(row[k], sqrDistance(p_k - a)) for k in [k0, k1], p_k = (x, y, z0 + k): the
-    /// same arithmetic as sqrDistance, so the same values, evaluated for a whole row of N
-    /// voxels without branches and kept only within [k0, k1]. GCC turns the selects of the
-    /// loop into vector blends only where it may ignore floating-point exceptions (which
-    /// changes no value); Clang does by default.
-    template <int N>
-#if defined(__GNUC__) && !defined(__clang__)
-    __attribute__((optimize("no-trapping-math")))
-#endif
-    void
-    minSqrDistanceRow(Int32 x, Int32 y, Int32 z0, Int32 k0, Int32 k1, double* row) const {
-        // Scalars only in the loop: with its own optimisation options, this function inlines
-        // nothing (not even Vec3's accessors or a lambda).
-        const double ax = double(x) - a[0], ay = double(y) - a[1], a2 = a[2];
-        const double abxy = ab[0] * ax + ab[1] * ay, acxy = ac[0] * ax + ac[1] * ay;
-        const double bcxy = bc[0] * ax + bc[1] * ay, nxy = n[0] * ax + n[1] * ay;
-        const double ab2 = ab[2], ac2 = ac[2], bc2 = bc[2], n2 = n[2];
-        const double ppxy = ax * ax + ay * ay;
-        const double abab_ = abab, acac_ = acac, abac_ = abac, bcbc_ = bcbc, abbc_ = abbc;
-        const double invAbab_ = invAbab, invAcac_ = invAcac, invBcbc_ = invBcbc;
-        const double invDet_ = invDet, invNN_ = invNN;
-        const bool hasFace_ = hasFace;
-        for (int k = 0; k < N; ++k) {
-            const double az = double(z0 + k) - a2;
-            const double d1 = abxy + ab2 * az, d2 = acxy + ac2 * az;
-            const double pp = ppxy + az * az;
-            const double s = (acac_ * d1 - abac_ * d2) * invDet_;
-            const double t = (abab_ * d2 - abac_ * d1) * invDet_;
-            const double pn = nxy + n2 * az;
-            const double face = pn * pn * invNN_;
-            // std::clamp(u, 0.0, 1.0), std::min and std::max, written as selects on values.
-            double uab = d1 * invAbab_;
-            uab = uab < 0.0 ? 0.0 : uab;
-            uab = 1.0 < uab ? 1.0 : uab;
-            const double eab = pp - uab * (2.0 * d1 - uab * abab_);
-            double uac = d2 * invAcac_;
-            uac = uac < 0.0 ? 0.0 : uac;
-            uac = 1.0 < uac ? 1.0 : uac;
-            const double eac = pp - uac * (2.0 * d2 - uac * acac_);
-            const double d3 = (bcxy + bc2 * az) - abbc_;
-            double ubc = d3 * invBcbc_;
-            ubc = ubc < 0.0 ? 0.0 : ubc;
-            ubc = 1.0 < ubc ? 1.0 : ubc;
-            const double ebc = (pp - 2.0 * d1 + abab_) - ubc * (2.0 * d3 - ubc * bcbc_);
-            const double eMin = ebc < eac ? ebc : eac;
-            const double e = eMin < eab ? eMin : eab;
-            const double edge = 0.0 < e ? e : 0.0;
-            const bool onFace = hasFace_ & (s >= 0.0) & (t >= 0.0) & (s + t <= 1.0);
-            const double d = onFace ? face : edge;
-            const double old = row[k];
-            const double lower = d < old ? d : old;
-            row[k] = (k >= k0) & (k <= k1) ? lower : old;
-        }
-    }
 };
 
 /// A bounding volume hierarchy over a set of DistanceTriangles for nearest-distance queries:
@@ -1094,12 +1039,13 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
                             }
                             const Int32 k0 = std::max(box.min()[2], Int32(std::ceil(zLo)));
                             const Int32 k1 = std::min(box.max()[2], Int32(std::floor(zHi)));
-                            if (k0 > k1)
-                                continue;
                             const Index row = LeafT::coordToOffset(Coord(i, j, 0));
-                            tri.template minSqrDistanceRow<LEAF_DIM>(
-                                i, j, leafOrigin[2], k0 - leafOrigin[2], k1 - leafOrigin[2],
-                                &dist2[row]);
+                            for (Int32 k = k0; k <= k1; ++k) {
+                                const double d2 =
+                                    tri.sqrDistance(Vec3d(ax, ay, double(k) - tri.a[2]));
+                                double& slot = dist2[row + Index(k - leafOrigin[2])];
+                                slot = std::min(slot, d2);
+                            }
                         }
                     }
                 }
