@@ -279,6 +279,15 @@ TEST(MeshReader, WrongCountsThrow) {
     std::string off = tetOff();
     off.replace(off.rfind("3 1 2 3"), 7, "6666666666666666666666666666666666666666666666663 1 2 3");
     EXPECT_TRUE(rejects("huge-face.off", off));
+    // A second list on the faces whose count no integer type holds (and the line cannot back).
+    std::string ply = tetPlyAscii();
+    ply.replace(ply.find("end_header"), 10, "property list uchar float texcoord\nend_header");
+    for (size_t at = ply.find("\n3 ", ply.find("end_header")); at != std::string::npos;
+         at = ply.find("\n3 ", at + 1)) {
+        const size_t end = ply.find('\n', at + 1);
+        ply.insert(end == std::string::npos ? ply.size() : end, " 8.9e73 0.5");
+    }
+    EXPECT_TRUE(rejects("huge-list.ply", ply));
     // A face without vertices (followed by more lines, it crashed assimp's OFF reader).
     EXPECT_TRUE(
         rejects("empty-face.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 1 0\n0 0 1\n"));
