@@ -47,8 +47,11 @@ void resampleGrid(GridT& grid, const math::Transform::Ptr& target, Index64 maxVo
     try {
         tools::resampleToMatch<SamplerT>(grid, *out, maxVoxels);
     } catch (const ValueError& e) {
-        throw UsageError("grid \"" + grid.getName() + "\": " + e.what() +
-                         " (--max-memory raises the limit)");
+        // The hint only where the voxel limit (set by --max-memory) refused the work.
+        const std::string what = e.what();
+        const bool overLimit = what.find("more than the limit") != std::string::npos;
+        throw UsageError("grid \"" + grid.getName() + "\": " + what +
+                         (overLimit ? " (--max-memory raises the limit)" : ""));
     }
     grid.setTree(out->treePtr());
     grid.setTransform(target);

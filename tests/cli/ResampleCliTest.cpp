@@ -134,6 +134,12 @@ TEST_F(ResampleCli, BadRequestsFailWithOneLineAndLoseNothing) {
           "missing.vdb");
     // An output far too large for the memory limit is refused before any work.
     fails({"resample", path("in.vdb"), "-o", path("out.vdb"), "--voxel-size", "1e-6"}, 2, "limit");
+    // Refusals for other reasons do not point at --max-memory.
+    fails({"resample", path("in.vdb"), "-o", path("out.vdb"), "--voxel-size", "1e300"}, 2,
+          "matrix");
+    EXPECT_EQ(run({"resample", path("in.vdb"), "-o", path("out.vdb"), "--voxel-size", "1e300"})
+                  .err.find("--max-memory"),
+              std::string::npos);
     // A frustum reference.
     auto frustum = FloatGrid::create();
     frustum->setTransform(
