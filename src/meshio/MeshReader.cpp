@@ -182,9 +182,26 @@ uint64_t plyTypeBytes(const std::string& type) {
     return 0;
 }
 
-/// PLY: the header's elements must fit in the bytes after it (in binary, each record takes
-/// at least its scalars and list counts; in ASCII, at least two characters per property);
-/// in ASCII, each record is a line with its properties in order.
+/// True when `token` is a decimal count (digits only).
+bool isCount(const std::string& token) {
+    return !token.empty() && token.size() <= 19 &&
+           std::all_of(token.begin(), token.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+/// True for the PLY scalar types a list count can take.
+bool isPlyIntegerType(const std::string& type) {
+    return plyTypeBytes(type) != 0 && type.find("float") == std::string::npos && type != "double";
+}
+
+/// PLY: the header is "ply", "format <ascii|binary_little_endian|binary_big_endian> 1.0", then
+/// elements ("element <name> <count>") each followed by its properties ("property <type>
+/// <name>" or "property list <count type> <type> <name>"), comments and "end_header". Lines of
+/// free text between the format and the first element are allowed (Blender 2.4 wrote its
+/// comment that way); any other line, and any control character but tabs and carriage returns,
+/// is refused, since assimp's header parser can loop on them.
+/// The header's elements must fit in the bytes after it (in binary, each record takes at least
+/// its scalars and list counts; in ASCII, at least two characters per property); in ASCII, each
+/// record is a line with its properties in order.
 void checkPly(const std::string& path, std::istream& in, uint64_t fileSize) {
     struct Element {
         std::string name;
@@ -196,43 +213,68 @@ void checkPly(const std::string& path, std::istream& in, uint64_t fileSize) {
     std::vector<Element> elements;
     std::string line, format;
     uint64_t vertexCount = 0;
-    for (;;) {
+    std::vector<std::string> words;
+    for (int lineNumber = 1;; ++lineNumber) {
         if (!std::getline(in, line))
             fail(path, "the PLY header has no end_header");
-        std::istringstream words(line);
-        std::string word;
-        words >> word;
-        if (word == "end_header")
+        if (lineNumber == 1)
+            continue;  // "ply", checked by the caller
+        if (std::any_of(line.begin(), line.end(),
+                        [](unsigned char c) { return c < 0x20 && c != '\t' && c != '\r'; }))
+            fail(path,
+                 "PLY header line " + std::to_string(lineNumber) + " holds a control character");
+        words.clear();
+        std::istringstream tokens(line);
+        for (std::string word; tokens >> word;)
+            words.push_back(word);
+        const std::string keyword = words.empty() ? std::string() : words[0];
+        const auto malformed = [&](const std::string& what) {
+            fail(path, "PLY header line " + std::to_string(lineNumber) + ": " + what);
+        };
+        if (lineNumber == 2) {
+            if (words.size() != 3 || keyword != "format" ||
+                (words[1] != "ascii" && words[1] != "binary_little_endian" &&
+                 words[1] != "binary_big_endian") ||
+                words[2] != "1.0")
+                malformed("not \"format ascii|binary_little_endian|binary_big_endian 1.0\"");
+            format = words[1];
+        } else if (keyword == "end_header") {
+            if (words.size() != 1)
+                malformed("end_header is followed by more text");
             break;
-        if (word == "format") {
-            words >> format;
-        } else if (word == "element") {
+        } else if (keyword == "comment" || keyword == "obj_info") {
+            continue;
+        } else if (keyword == "element") {
+            if (words.size() != 3 || !isCount(words[2]))
+                malformed("not \"element <name> <count>\"");
             Element e;
-            double count = -1;
-            words >> e.name >> count;
-            if (!(count >= 0 && count < 1.8e19))
-                fail(path, "element " + e.name + " has no valid count");
-            e.count = uint64_t(count);
+            e.name = words[1];
+            e.count = std::stoull(words[2]);
+            for (const Element& other : elements) {
+                if (other.name == e.name)
+                    malformed("a second element " + e.name);
+            }
             if (e.name == "vertex")
                 vertexCount = e.count;
             elements.push_back(e);
-        } else if (word == "property") {
+        } else if (keyword == "property") {
             if (elements.empty())
-                fail(path, "a property comes before any element");
-            std::string type, name;
-            words >> type;
-            const bool list = type == "list";
-            if (list) {
-                std::string countType, itemType;
-                words >> countType >> itemType;
-                type = countType;
-            }
-            words >> name;
+                malformed("a property comes before any element");
+            const bool list = words.size() > 1 && words[1] == "list";
+            if (list ? (words.size() != 5 || !isPlyIntegerType(words[2]) ||
+                        plyTypeBytes(words[3]) == 0)
+                     : (words.size() != 3 || plyTypeBytes(words[1]) == 0))
+                malformed(
+                    "not \"property <type> <name>\" or \"property list <count type> "
+                    "<type> <name>\" with PLY types");
+            const std::string& name = words.back();
             auto& e = elements.back();
             if (list && (name == "vertex_indices" || name == "vertex_index"))
                 e.indexList = int(e.isList.size());
             e.isList.push_back(list);
-            e.minBytes += plyTypeBytes(type);
+            e.minBytes += plyTypeBytes(words[list ? 2 : 1]);
+        } else if (!elements.empty() || keyword == "format" || keyword == "ply") {
+            malformed("not a comment, element, property or end_header");
         }
     }
     const bool ascii = format == "ascii";

@@ -323,6 +323,52 @@ TEST(MeshReader, OutOfRangeIndicesThrow) {
     }
 }
 
+TEST(MeshReader, MalformedPlyHeadersThrow) {
+    // Each of these header lines made assimp's PLY reader loop without end (found by the fuzz
+    // target); each is refused before assimp sees the file, with the line it is on.
+    const std::string ply = tetPlyAscii();
+    const auto withLine = [&](const std::string& before, const std::string& line) {
+        std::string text = ply;
+        text.insert(text.find(before), line + "\n");
+        return text;
+    };
+    EXPECT_TRUE(rejectsWith("count-word.ply", withLine("end_header", "element vertexar int"),
+                            {"header line 9", "element <name> <count>"}));
+    EXPECT_TRUE(rejectsWith("format-again.ply", withLine("end_header", "format ascii 1.0"),
+                            {"header line 9"}));
+    EXPECT_TRUE(
+        rejectsWith("stray-word.ply", withLine("element face", "propces"), {"header line 7"}));
+    // Free text before the first element is allowed, but not with control characters.
+    EXPECT_TRUE(rejectsWith("nul-text.ply",
+                            withLine("element vertex", std::string("properuint1\0\0ex", 15)),
+                            {"header line 3", "control character"}));
+    EXPECT_TRUE(rejectsWith("soh-comment.ply", withLine("element face", "comment \x01"),
+                            {"control character"}));
+    // Other malformed lines: no format line, an unknown format, a second element of one name,
+    // a property of an unknown type or with a floating-point list count, a count with a sign.
+    std::string noFormat = ply;
+    noFormat.erase(noFormat.find("format ascii 1.0\n"), 17);
+    EXPECT_TRUE(rejectsWith("no-format.ply", noFormat, {"header line 2"}));
+    std::string badFormat = ply;
+    badFormat.replace(badFormat.find("ascii"), 5, "text");
+    EXPECT_TRUE(rejectsWith("bad-format.ply", badFormat, {"header line 2"}));
+    EXPECT_TRUE(rejectsWith("two-vertex.ply", withLine("element face", "element vertex 0"),
+                            {"a second element vertex"}));
+    EXPECT_TRUE(rejects("float96.ply", withLine("element face", "property float96 w")));
+    std::string floatCount = ply;
+    floatCount.replace(floatCount.find("list uchar"), 10, "list float");
+    EXPECT_TRUE(rejects("float-count.ply", floatCount));
+    std::string signedCount = ply;
+    signedCount.replace(signedCount.find("vertex 4"), 8, "vertex +4");
+    EXPECT_TRUE(rejects("signed-count.ply", signedCount));
+    // Comments anywhere, and a line of free text before the first element (as Blender 2.4
+    // wrote its comment; PLY/Wuson.ply has one), are read.
+    std::string annotated = withLine("end_header", "comment last");
+    annotated.insert(annotated.find("element face"), "obj_info scanned\n");
+    annotated.insert(annotated.find("element vertex"), "Created by an exporter\n");
+    EXPECT_EQ(readMesh(writeFile("annotated.ply", annotated)).triangles.size(), 4u);
+}
+
 TEST(MeshReader, NulBytesInAsciiRecordsThrowBeforeAssimpReadsThem) {
     // A NUL byte inside a number of an ASCII PLY record: assimp's reader refused the file but
     // leaked; the record check must refuse it first.
