@@ -12,15 +12,18 @@
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/util/Assert.h>
 #include <vdb/util/BitMask.h>
+#include <vdb/util/BlockPool.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <memory>
 #include <mutex>
 #include <span>
+#include <type_traits>
 #include <utility>
 
 namespace vdb::tree {
@@ -183,7 +186,7 @@ public:
     /// Sets every voxel to `value` with state `active` (out-of-core values are dropped unread).
     void fill(const ValueT& value, bool active) {
         if (isOutOfCore()) {
-            ValueT* block = new ValueT[NUM_VALUES];
+            ValueT* block = allocateValues(1);
             freeBlock();
             mData = block;
         }
@@ -314,11 +317,21 @@ private:
         return (std::ptrdiff_t(slotOf(i)) - std::ptrdiff_t(slotOf(0))) * NUM_VALUES;
     }
     ValueT* blockStart() const { return mData - std::ptrdiff_t(slotOf(0)) * NUM_VALUES; }
+    // Value blocks come from the leaf pool (util/BlockPool.h), `count` buffers each.
+    static constexpr std::size_t blockBytes(Index count) {
+        return std::size_t(count) * NUM_VALUES * sizeof(ValueT);
+    }
+    static ValueT* allocateValues(Index count) {
+        // Raw memory holds the values: they must be trivially copyable and destructible.
+        static_assert(std::is_trivially_copyable_v<ValueT> &&
+                      std::is_trivially_destructible_v<ValueT> && alignof(ValueT) <= 64);
+        return static_cast<ValueT*>(util::allocateValueBlock(blockBytes(count)));
+    }
     void freeBlock() {
         if (isRecord(mData))
             delete recordOf(mData);
         else if (mData)
-            delete[] blockStart();
+            util::freeValueBlock(blockStart(), blockBytes(mBufferCount));
         mData = nullptr;
     }
 
@@ -334,7 +347,7 @@ private:
 
 template <typename ValueT, Index Log2Dim>
 LeafNode<ValueT, Log2Dim>::LeafNode(const Coord& ijk, const ValueT& value, bool active)
-    : mData(new ValueT[NUM_VALUES]),
+    : mData(allocateValues(1)),
       mOrigin(ijk.alignedDown(LOG2DIM)),
       mBufferCount(1),
       mValueMask(active) {
@@ -355,7 +368,7 @@ LeafNode<ValueT, Log2Dim>::LeafNode(const LeafNode& other)
         }
     }
     if (mBufferCount > 0) {
-        mData = new ValueT[Index64(mBufferCount) * NUM_VALUES];
+        mData = allocateValues(mBufferCount);
         for (Index i = 0; i < mBufferCount; ++i) {
             std::copy_n(other.mData + other.slotShift(i), NUM_VALUES, mData + i * NUM_VALUES);
         }
@@ -478,9 +491,13 @@ ValueT* LeafNode<ValueT, Log2Dim>::loadOutOfCore() const {
     if (!isRecord(p))
         return p;  // another thread loaded the values first
     const OutOfCore* record = recordOf(p);
-    std::unique_ptr<ValueT[]> block(new ValueT[NUM_VALUES]);
-    record->load(block.get());  // on failure the leaf stays out of core
-    ValueT* loaded = block.release();
+    ValueT* loaded = allocateValues(1);
+    try {
+        record->load(loaded);
+    } catch (...) {
+        util::freeValueBlock(loaded, blockBytes(1));  // the leaf stays out of core
+        throw;
+    }
     std::atomic_ref<ValueT*>(mData).store(loaded, std::memory_order_release);
     delete record;
     return loaded;
@@ -500,7 +517,7 @@ void LeafNode<ValueT, Log2Dim>::setBufferCount(Index count) {
         mSlots = 0b100100;
         return;
     }
-    ValueT* block = new ValueT[Index64(count) * NUM_VALUES];
+    ValueT* block = allocateValues(count);
     const Index keep = std::min<Index>(count, mBufferCount);
     for (Index i = 0; i < keep; ++i) {
         std::copy_n(mData + slotShift(i), NUM_VALUES, block + i * NUM_VALUES);
