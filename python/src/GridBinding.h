@@ -313,7 +313,7 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
     using Traits = ValueTraits<ValueT>;
     using Scalar = typename Traits::Scalar;
     using GridPtr = typename GridT::Ptr;
-    constexpr bool IS_MASK = std::is_same_v<typename TreeT::BuildType, ValueMask>;
+    constexpr bool IS_MASK = tree::IS_MASK_NODE<typename TreeT::LeafNodeType>;
     constexpr bool IS_FLOAT = std::is_floating_point_v<ValueT>;
     constexpr Index DEPTH = TreeT::DEPTH;
 

@@ -19,6 +19,7 @@
 #include <vdb/io/Compression.h>
 #include <vdb/io/Format.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/TreeConfigs.h>
 
 #include <tbb/blocked_range.h>
@@ -136,11 +137,6 @@ void registerGridType() {
 
 namespace detail {
 
-template <typename NodeT>
-inline constexpr bool IS_BOOL_LEAF = std::is_same_v<typename NodeT::BuildType, bool>;
-template <typename NodeT>
-inline constexpr bool IS_MASK_LEAF = std::is_same_v<typename NodeT::BuildType, ValueMask>;
-
 template <typename MaskT>
 void writeMask(ByteWriter& w, const MaskT& mask) {
     w.write(mask.words(), sizeof(typename MaskT::Word) * MaskT::WORD_COUNT);
@@ -196,11 +192,11 @@ template <typename LeafT>
 ArrayInfo writeLeafBuffer(ByteWriter& w, const LeafT& leaf, const typename LeafT::ValueType& bg,
                           const TreeWriteOptions& options, CodecScratch& scratch) {
     writeMask(w, leaf.getValueMask());
-    if constexpr (IS_BOOL_LEAF<LeafT>) {
+    if constexpr (tree::IS_BOOL_NODE<LeafT>) {
         writeCoord(w, leaf.origin());
         writeMask(w, leaf.buffer());
         return {};
-    } else if constexpr (IS_MASK_LEAF<LeafT>) {
+    } else if constexpr (tree::IS_MASK_NODE<LeafT>) {
         writeCoord(w, leaf.origin());
         return {};
     } else {
@@ -248,7 +244,7 @@ void readInternalTopology(TopologyReader<LeafT>& s, NodeT& node) {
         if constexpr (ChildT::LEVEL == 0) {
             // Value leaves get their buffer when the values are read (or none, when delayed).
             std::unique_ptr<ChildT> leaf;
-            if constexpr (IS_BOOL_LEAF<ChildT> || IS_MASK_LEAF<ChildT>)
+            if constexpr (tree::IS_BOOL_NODE<ChildT> || tree::IS_MASK_NODE<ChildT>)
                 leaf = std::make_unique<ChildT>(origin, false, false);
             else
                 leaf = std::make_unique<ChildT>(tree::PartialCreate{}, origin);
@@ -309,10 +305,10 @@ void readLeafBuffer(ByteReader& r, LeafT& leaf, const typename LeafT::ValueType&
     // The value mask is repeated here; the topology's copy is the one kept (as OpenVDB does
     // for files).
     r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT, "leaf mask");
-    if constexpr (IS_BOOL_LEAF<LeafT> || IS_MASK_LEAF<LeafT>) {
+    if constexpr (tree::IS_BOOL_NODE<LeafT> || tree::IS_MASK_NODE<LeafT>) {
         if (readCoord(r, "leaf origin") != leaf.origin())
             r.fail("leaf origin differs from the topology's");
-        if constexpr (IS_BOOL_LEAF<LeafT>)
+        if constexpr (tree::IS_BOOL_NODE<LeafT>)
             readMask(r, leaf.buffer(), "bool leaf values");
     } else {
         leaf.setBufferCount(1);  // uninitialised: every value is read below
@@ -364,10 +360,10 @@ template <typename LeafT>
 void skipLeafBuffer(ByteReader& r, const LeafT& leaf, const TreeReadOptions& options) {
     r.skip(sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT, "leaf mask");
     const bool hasCode = options.fileVersion >= FILE_VERSION_NODE_MASK_COMPRESSION;
-    if constexpr (IS_BOOL_LEAF<LeafT>) {
+    if constexpr (tree::IS_BOOL_NODE<LeafT>) {
         r.skip(12 + sizeof(typename LeafT::MaskType::Word) * LeafT::MaskType::WORD_COUNT,
                "bool leaf");
-    } else if constexpr (IS_MASK_LEAF<LeafT>) {
+    } else if constexpr (tree::IS_MASK_NODE<LeafT>) {
         r.skip(12, "mask leaf origin");
     } else if (!hasCode) {
         r.skip(12, "leaf origin");
@@ -507,7 +503,7 @@ void readTree(ByteReader& r, TreeT& tree, const TreeReadOptions& options) {
         detail::skipLeafBuffer(r, *leaves[i], options);
     }
     starts[leaves.size()] = r.pos();
-    if constexpr (!detail::IS_BOOL_LEAF<LeafT> && !detail::IS_MASK_LEAF<LeafT>) {
+    if constexpr (!tree::IS_BOOL_NODE<LeafT> && !tree::IS_MASK_NODE<LeafT>) {
         if (options.delayed) {
             auto shared = std::make_shared<const detail::DelayedTree<ValueT>>(
                 detail::DelayedTree<ValueT>{options, background});

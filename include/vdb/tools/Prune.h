@@ -325,8 +325,7 @@ void pruneTiles(TreeT& tree, typename TreeT::ValueType tolerance, bool threaded)
 template <VdbTree TreeT>
 void pruneInactiveWithValue(TreeT& tree, const typename TreeT::ValueType& value, bool threaded) {
     using ValueT = typename TreeT::ValueType;
-    const ValueT tileValue =
-        std::is_same_v<typename TreeT::BuildType, ValueMask> ? ValueT{} : value;
+    const ValueT tileValue = tree::IS_MASK_NODE<typename TreeT::LeafNodeType> ? ValueT{} : value;
     detail::pruneBottomUp(
         tree,
         [&tileValue](const auto& child, ValueT& v, bool& state) {

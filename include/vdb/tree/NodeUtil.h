@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
-/// Small helpers shared by the node templates: node-type lookup by level, saturating counts,
+/// Small helpers shared by the node templates (node traits: NodeTraits.h): saturating counts,
 /// and the bit test used to skip filling zero-initialized tables. Values are compared with
 /// math::isApproxEqual() (math/Math.h, math/Vec3.h), the library's one tolerance comparison.
 
@@ -10,6 +10,7 @@
 #include <vdb/math/Coord.h>
 #include <vdb/math/Math.h>
 #include <vdb/math/Vec3.h>
+#include <vdb/tree/NodeTraits.h>
 
 #include <cmath>
 #include <concepts>
@@ -17,19 +18,6 @@
 #include <type_traits>
 
 namespace vdb::tree {
-
-/// The node type at `Level` of the tree whose top node type is `TopT` (level 0 is the leaf).
-template <typename TopT, Index Level>
-struct NodeAtLevel {
-    static_assert(Level <= TopT::LEVEL, "the tree has no level this high");
-    using Type = typename NodeAtLevel<typename TopT::ChildNodeType, Level>::Type;
-};
-template <typename TopT, Index Level>
-requires(TopT::LEVEL == Level) struct NodeAtLevel<TopT, Level> {
-    using Type = TopT;
-};
-template <typename TopT, Index Level>
-using NodeAtLevelT = typename NodeAtLevel<TopT, Level>::Type;
 
 namespace detail {
 

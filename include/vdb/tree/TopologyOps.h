@@ -29,6 +29,7 @@
 #include <vdb/math/Coord.h>
 #include <vdb/tree/InternalNode.h>
 #include <vdb/tree/LeafNode.h>
+#include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/RootNode.h>
 
 #include <bit>
@@ -41,20 +42,15 @@ namespace vdb::tree::detail {
 
 // ---- Node layout
 
-template <typename NodeT>
-inline constexpr bool IS_ROOT_TOPOLOGY_NODE = requires {
-    NodeT::IS_ROOT;
-};
-
 /// True when `A` and `B` have the same levels and branching factors (value types and root
 /// tables may differ), so that their nodes cover the same regions.
 template <typename A, typename B>
 constexpr bool sameNodeLayout() {
     if constexpr (A::LEVEL != B::LEVEL) {
         return false;
-    } else if constexpr (IS_ROOT_TOPOLOGY_NODE<A> != IS_ROOT_TOPOLOGY_NODE<B>) {
+    } else if constexpr (IS_ROOT_NODE<A> != IS_ROOT_NODE<B>) {
         return false;
-    } else if constexpr (IS_ROOT_TOPOLOGY_NODE<A>) {
+    } else if constexpr (IS_ROOT_NODE<A>) {
         return sameNodeLayout<typename A::ChildNodeType, typename B::ChildNodeType>();
     } else if constexpr (A::LEVEL == 0) {
         return A::LOG2DIM == B::LOG2DIM;
@@ -63,9 +59,6 @@ constexpr bool sameNodeLayout() {
                sameNodeLayout<typename A::ChildNodeType, typename B::ChildNodeType>();
     }
 }
-
-template <typename NodeT>
-inline constexpr bool IS_MASK_NODE = std::is_same_v<typename NodeT::BuildType, ValueMask>;
 
 /// The value a tile of `NodeT` gets when its state becomes `active`: in mask trees the state
 /// itself, elsewhere `value` (the tile keeps its value).
@@ -350,7 +343,7 @@ void rootTopologyDifference(RootT& root, const OtherT& other,
 template <typename TopT, typename OtherTopT>
 void topTopologyUnion(TopT& top, const OtherTopT& other, const typename TopT::ValueType& background,
                       bool preserveTiles) {
-    if constexpr (IS_ROOT_TOPOLOGY_NODE<TopT>) {
+    if constexpr (IS_ROOT_NODE<TopT>) {
         rootTopologyUnion(top, other, background, preserveTiles);
     } else {
         topologyUnion(top, other, preserveTiles);
@@ -360,7 +353,7 @@ void topTopologyUnion(TopT& top, const OtherTopT& other, const typename TopT::Va
 template <typename TopT, typename OtherTopT>
 void topTopologyIntersection(TopT& top, const OtherTopT& other,
                              const typename TopT::ValueType& background) {
-    if constexpr (IS_ROOT_TOPOLOGY_NODE<TopT>) {
+    if constexpr (IS_ROOT_NODE<TopT>) {
         rootTopologyIntersection(top, other, background);
     } else {
         topologyIntersection(top, other, background);
@@ -370,7 +363,7 @@ void topTopologyIntersection(TopT& top, const OtherTopT& other,
 template <typename TopT, typename OtherTopT>
 void topTopologyDifference(TopT& top, const OtherTopT& other,
                            const typename TopT::ValueType& background) {
-    if constexpr (IS_ROOT_TOPOLOGY_NODE<TopT>) {
+    if constexpr (IS_ROOT_NODE<TopT>) {
         rootTopologyDifference(top, other, background);
     } else {
         topologyDifference(top, other, background);

@@ -19,6 +19,7 @@
 #include <vdb/math/Coord.h>
 #include <vdb/tree/InternalNode.h>
 #include <vdb/tree/LeafNode.h>
+#include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/RootNode.h>
 #include <vdb/tree/TopologyOps.h>
@@ -39,20 +40,6 @@ template <typename TreeT>
 class TreeLeafIterator;
 template <typename TreeT>
 class TreeNodeIterator;
-
-/// True for node types that can be the top of a tree: a RootNode or an InternalNode.
-template <typename NodeT>
-concept TopNodeType = requires {
-    typename NodeT::ChildNodeType;
-    typename NodeT::ValueType;
-    NodeT::LEVEL;
-};
-
-/// True when `NodeT` is a RootNode.
-template <typename NodeT>
-inline constexpr bool IS_ROOT_NODE = requires {
-    NodeT::IS_ROOT;
-};
 
 /// A sparse volume: a tree of nodes under `TopT`, with a background value for everything that
 /// is not stored.
@@ -493,7 +480,7 @@ inline void Tree<TopT>::eraseValue(const Coord& ijk) {
 
 template <TopNodeType TopT>
 inline void Tree<TopT>::fill(const CoordBBox& bbox, const ValueType& value, bool active) {
-    if constexpr (std::is_same_v<BuildType, ValueMask>) {
+    if constexpr (IS_MASK_NODE<LeafNodeType>) {
         // In a mask tree a voxel's value is its state; tiles keep the two equal too.
         if (value != active) {
             fill(bbox, true, true);

@@ -533,7 +533,7 @@ struct TreeTileOps {
     using TopT = typename TreeT::TopNodeType;
     using ValueT = typename TreeT::ValueType;
     using LeafT = typename TreeT::LeafNodeType;
-    static constexpr bool IS_MASK = std::is_same_v<typename TreeT::BuildType, ValueMask>;
+    static constexpr bool IS_MASK = tree::IS_MASK_NODE<LeafT>;
 
     /// The value of a tile switched off: in a mask tree a tile's value is its state.
     static ValueT offValue(const ValueT& value) {

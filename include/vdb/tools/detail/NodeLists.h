@@ -2,12 +2,13 @@
 /// @file
 /// NodeLists: the nodes of a tree below its top node, one flat array per level, so that a tool
 /// can process every node of one level in parallel and then the level above (bottom-up), or
-/// the other way round; and the tree concepts the tools in include/vdb/tools/ constrain with.
-/// NodeLists is not API.
+/// the other way round. NodeLists is not API; it also brings the tree concepts of
+/// tree/NodeTraits.h into vdb::tools as tools::VdbTree and tools::SignedVdbTree.
 
 #pragma once
 
 #include <vdb/Types.h>
+#include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
@@ -20,13 +21,9 @@
 
 namespace vdb::tools {
 
-/// A tree of any configuration: a RootNode (unbounded) or an InternalNode (bounded) on top.
-template <typename TreeT>
-concept VdbTree = tree::TopNodeType<typename TreeT::TopNodeType>;
-
-/// A tree whose values carry a sign (float, double, Int32, Int64), as level sets need.
-template <typename TreeT>
-concept SignedVdbTree = VdbTree<TreeT> && std::is_signed_v<typename TreeT::ValueType>;
+// The tree concepts of tree/NodeTraits.h, by the names the tools have always used.
+using tree::SignedVdbTree;
+using tree::VdbTree;
 
 }  // namespace vdb::tools
 
