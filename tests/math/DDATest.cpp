@@ -5,6 +5,7 @@
 // middle of each reported span.
 
 #include <vdb/math/DDA.h>
+#include <vdb/tree/HierarchicalDDA.h>
 #include <vdb/tree/TreeConfigs.h>
 #include <vdb/vdb.h>
 
@@ -23,6 +24,7 @@ namespace vdb::math {
 namespace {
 
 using RayD = Ray<double>;
+using tree::HierarchicalDDA;
 
 // The time span during which `ray` (restricted to [t0, t1]) lies in the closed cube of edge
 // `dim` at `origin`; false when it misses.

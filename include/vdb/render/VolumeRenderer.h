@@ -15,7 +15,7 @@
 /// (sun Tl(s) + ambient) ds, where Tl is the transmittance from s towards the sun, and its
 /// alpha is 1 - T(end); the result is composited over the background.
 ///
-/// Method (paper section 4.7). Rays are walked in index space with math::HierarchicalDDA, so
+/// Method (paper section 4.7). Rays are walked in index space with tree::HierarchicalDDA, so
 /// empty regions, inactive tiles and leaves whose density is zero everywhere (found once per
 /// render) are crossed in one step at the tree level that stores them. Runs of leaves are cut
 /// into equal steps of at most `step` voxels, sampled at their midpoints, with each step's
@@ -55,7 +55,6 @@
 #include <vdb/Types.h>
 #include <vdb/math/BBox.h>
 #include <vdb/math/Coord.h>
-#include <vdb/math/DDA.h>
 #include <vdb/math/Ray.h>
 #include <vdb/math/Transform.h>
 #include <vdb/math/Vec3.h>
@@ -64,6 +63,7 @@
 #include <vdb/render/detail/Tiles.h>
 #include <vdb/tools/Interpolation.h>
 #include <vdb/tools/RayIntersector.h>
+#include <vdb/tree/HierarchicalDDA.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/Parallel.h>
@@ -302,7 +302,7 @@ private:
         const Shared* mShared;
         detail::CellReader<TreeType> mCells;
         tree::ValueAccessor<const LightTree> mLiveAcc;
-        math::HierarchicalDDA<TreeType> mHdda;
+        tree::HierarchicalDDA<TreeType> mHdda;
     };
 
     // Builds the shared light tree, with values when the settings ask for the light cache
@@ -571,7 +571,7 @@ void VolumeRenderer<GridT>::Marcher::march(const RayType& ray, double step, cons
     const RayType shifted(ray.eye() + 0.5, ray.dir(), clipped.t0(), clipped.t1());
     if (!mHdda.init(shifted))
         return;
-    typename math::HierarchicalDDA<TreeType>::Span span;
+    typename tree::HierarchicalDDA<TreeType>::Span span;
     bool more = mHdda.next(span);
     while (more) {
         if (span.leaf) {

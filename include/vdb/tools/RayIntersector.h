@@ -4,7 +4,7 @@
 /// crossing of a level set's zero surface (LevelSetRayIntersector), and the spans of a ray
 /// that cross active values of a volume (VolumeRayIntersector).
 ///
-/// Both walk the ray with math::HierarchicalDDA, which leaps over tiles and empty regions at
+/// Both walk the ray with tree::HierarchicalDDA, which leaps over tiles and empty regions at
 /// the level of the tree that stores them; only leaves are walked voxel by voxel.
 ///
 /// Level sets: inside each leaf the ray is cut where it crosses the planes through voxel
@@ -54,6 +54,7 @@
 #include <vdb/math/Transform.h>
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/Interpolation.h>
+#include <vdb/tree/HierarchicalDDA.h>
 #include <vdb/tree/ValueAccessor.h>
 
 #include <algorithm>
@@ -141,7 +142,7 @@ public:
 
 private:
     using Accessor = tree::ValueAccessor<const TreeType>;
-    using HDDA = math::HierarchicalDDA<TreeType>;
+    using HDDA = tree::HierarchicalDDA<TreeType>;
     using LeafT = typename TreeType::LeafNodeType;
 
     // The core: the index time of the first crossing of `iRay`, or false.
@@ -233,7 +234,7 @@ public:
     bool march(double& t0, double& t1);
 
 private:
-    using HDDA = math::HierarchicalDDA<TreeType>;
+    using HDDA = tree::HierarchicalDDA<TreeType>;
     using Span = typename HDDA::Span;
 
     // Fetches the next non-empty region into mPending; false at the end of the ray.
