@@ -307,10 +307,6 @@ std::shared_ptr<const GridT> gridConstPtrCast(const GridBase::ConstPtr& grid) {
 
 // ---- Standard trees and grids
 
-using Vec3STree = tree::Tree4<Vec3s>::Type;
-using Vec3DTree = tree::Tree4<Vec3d>::Type;
-using Vec3ITree = tree::Tree4<Vec3i>::Type;
-
 using FloatGrid = Grid<FloatTree>;
 using DoubleGrid = Grid<DoubleTree>;
 using Int32Grid = Grid<Int32Tree>;
@@ -327,37 +323,9 @@ using Vec3fGrid = Vec3SGrid;
 // ---- Instantiated once in src/instantiate/Trees.cpp
 
 namespace vdb {
-namespace tree {
 
-extern template class LeafNode<Vec3s, 3>;
-extern template class InternalNode<LeafNode<Vec3s, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<Vec3s, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<Vec3s, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<Vec3s, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<Vec3d, 3>;
-extern template class InternalNode<LeafNode<Vec3d, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<Vec3d, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<Vec3d, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<Vec3d, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<Vec3i, 3>;
-extern template class InternalNode<LeafNode<Vec3i, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<Vec3i, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<Vec3i, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<Vec3i, 3>, 4>, 5>, HashTable>>;
-
-}  // namespace tree
-
-extern template class Grid<FloatTree>;
-extern template class Grid<DoubleTree>;
-extern template class Grid<Int32Tree>;
-extern template class Grid<Int64Tree>;
-extern template class Grid<BoolTree>;
-extern template class Grid<MaskTree>;
-extern template class Grid<Vec3STree>;
-extern template class Grid<Vec3DTree>;
-extern template class Grid<Vec3ITree>;
+#define VDB_STANDARD_GRID_EXTERN(ValueT, Name) extern template class Grid<Name##Tree>;
+VDB_FOR_EACH_STANDARD_TREE(VDB_STANDARD_GRID_EXTERN)
+#undef VDB_STANDARD_GRID_EXTERN
 
 }  // namespace vdb

@@ -60,48 +60,38 @@ using FixedTree3333 = Tree<InternalNode<InternalNode<InternalNode<LeafNode<Value
 
 }  // namespace vdb::tree
 
-// ---- Instantiated once in src/instantiate/Trees.cpp
+// ---- The standard trees
 
-namespace vdb::tree {
+/// The value types of the standard trees, Tree4<ValueT, 5, 4, 3> (OpenVDB's registered grid
+/// types), in one list from which their instantiation (src/instantiate/Trees.cpp), the extern
+/// declarations below and those of their grids (Grid.h) are written. X(ValueT, Name) is called
+/// once per type; Name is the prefix of the aliases (FloatTree, FloatGrid).
+#define VDB_FOR_EACH_STANDARD_TREE(X) \
+    X(float, Float)                   \
+    X(double, Double)                 \
+    X(Int32, Int32)                   \
+    X(Int64, Int64)                   \
+    X(bool, Bool)                     \
+    X(ValueMask, Mask)                \
+    X(Vec3s, Vec3S)                   \
+    X(Vec3d, Vec3D)                   \
+    X(Vec3i, Vec3I)
 
-extern template class LeafNode<float, 3>;
-extern template class InternalNode<LeafNode<float, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<float, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<float, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<float, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<double, 3>;
-extern template class InternalNode<LeafNode<double, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<double, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<double, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<double, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<Int32, 3>;
-extern template class InternalNode<LeafNode<Int32, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<Int32, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<Int32, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<Int32, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<Int64, 3>;
-extern template class InternalNode<LeafNode<Int64, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<Int64, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<Int64, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<Int64, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<bool, 3>;
-extern template class InternalNode<LeafNode<bool, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<bool, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<bool, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<bool, 3>, 4>, 5>, HashTable>>;
-extern template class LeafNode<ValueMask, 3>;
-extern template class InternalNode<LeafNode<ValueMask, 3>, 4>;
-extern template class InternalNode<InternalNode<LeafNode<ValueMask, 3>, 4>, 5>;
-extern template class RootNode<InternalNode<InternalNode<LeafNode<ValueMask, 3>, 4>, 5>, HashTable>;
-extern template class Tree<
-    RootNode<InternalNode<InternalNode<LeafNode<ValueMask, 3>, 4>, 5>, HashTable>>;
-
-}  // namespace vdb::tree
+/// The node classes of the standard tree of `ValueT`, each as `PREFIX template class ...;`
+/// (PREFIX is `extern` for a declaration, empty for the instantiation).
+#define VDB_STANDARD_TREE_CLASSES(PREFIX, ValueT)                                                 \
+    PREFIX template class ::vdb::tree::LeafNode<ValueT, 3>;                                       \
+    PREFIX template class ::vdb::tree::InternalNode<::vdb::tree::LeafNode<ValueT, 3>, 4>;         \
+    PREFIX template class ::vdb::tree::InternalNode<                                              \
+        ::vdb::tree::InternalNode<::vdb::tree::LeafNode<ValueT, 3>, 4>, 5>;                       \
+    PREFIX template class ::vdb::tree::RootNode<                                                  \
+        ::vdb::tree::InternalNode<::vdb::tree::InternalNode<::vdb::tree::LeafNode<ValueT, 3>, 4>, \
+                                  5>,                                                             \
+        ::vdb::tree::HashTable>;                                                                  \
+    PREFIX template class ::vdb::tree::Tree<::vdb::tree::RootNode<                                \
+        ::vdb::tree::InternalNode<::vdb::tree::InternalNode<::vdb::tree::LeafNode<ValueT, 3>, 4>, \
+                                  5>,                                                             \
+        ::vdb::tree::HashTable>>;
 
 namespace vdb {
 
@@ -111,5 +101,16 @@ using Int32Tree = tree::Tree4<Int32>::Type;
 using Int64Tree = tree::Tree4<Int64>::Type;
 using BoolTree = tree::Tree4<bool>::Type;
 using MaskTree = tree::Tree4<ValueMask>::Type;
+using Vec3STree = tree::Tree4<Vec3s>::Type;
+using Vec3DTree = tree::Tree4<Vec3d>::Type;
+using Vec3ITree = tree::Tree4<Vec3i>::Type;
 
 }  // namespace vdb
+
+// Instantiated once in src/instantiate/Trees.cpp.
+#define VDB_STANDARD_TREE_EXTERN(ValueT, Name) VDB_STANDARD_TREE_CLASSES(extern, ValueT)
+namespace vdb {
+VDB_FOR_EACH_STANDARD_TREE(VDB_STANDARD_TREE_EXTERN)
+}  // namespace vdb
+
+#undef VDB_STANDARD_TREE_EXTERN
