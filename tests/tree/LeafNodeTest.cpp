@@ -466,5 +466,53 @@ TEST(ValueLeafEdge, FillOfBoxEndingAtInt32MaxStopsThere) {
     expectFillAtInt32MaxEnds<LeafNode<float, 3>>();
 }
 
+// Every leaf class has the same iterators (LeafIterators.h): each filter, mutable and const,
+// visits exactly the voxels a scan of isValueOn() selects, in offset order; a mutable
+// iterator writes values through setValue() (in a mask leaf the value is the state).
+template <typename LeafT>
+void expectFullIteratorSet() {
+    LeafT leaf(Coord(-8, 16, 24), typename LeafT::ValueType{}, false);
+    std::mt19937 rng(11);
+    for (int n = 0; n < 200; ++n)
+        leaf.setValueOn(Index(rng() % LeafT::NUM_VALUES), typename LeafT::ValueType(1));
+    std::vector<Index> on, off;
+    for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+        (leaf.isValueOn(n) ? on : off).push_back(n);
+    ASSERT_FALSE(on.empty());
+    ASSERT_FALSE(off.empty());
+    const auto visit = [](auto it) {
+        std::vector<Index> seen;
+        for (; it; ++it) {
+            EXPECT_EQ(it.getCoord(), it.leaf().offsetToGlobalCoord(it.pos()));
+            seen.push_back(it.pos());
+        }
+        return seen;
+    };
+    const LeafT& cleaf = leaf;
+    EXPECT_EQ(visit(leaf.beginValueOn()), on);
+    EXPECT_EQ(visit(cleaf.beginValueOn()), on);
+    EXPECT_EQ(visit(leaf.cbeginValueOn()), on);
+    EXPECT_EQ(visit(leaf.beginValueOff()), off);
+    EXPECT_EQ(visit(cleaf.beginValueOff()), off);
+    EXPECT_EQ(visit(leaf.cbeginValueOff()), off);
+    EXPECT_EQ(visit(leaf.beginValueAll()).size(), size_t(LeafT::NUM_VALUES));
+    EXPECT_EQ(visit(cleaf.beginValueAll()).size(), size_t(LeafT::NUM_VALUES));
+    EXPECT_EQ(&leaf.beginValueOn().leaf(), &leaf);
+    // Writes through a mutable iterator.
+    for (auto it = leaf.beginValueOff(); it; ++it)
+        it.setValue(typename LeafT::ValueType(1));
+    for (Index n : off) {
+        EXPECT_EQ(leaf.getValue(n), typename LeafT::ValueType(1)) << n;
+        EXPECT_EQ(leaf.isValueOn(n), IS_MASK_NODE<LeafT>) << n;
+    }
+}
+
+TEST(LeafIterators, EveryLeafClassHasTheFullIteratorSet) {
+    expectFullIteratorSet<LeafNode<float, 3>>();
+    expectFullIteratorSet<LeafNode<Int64, 4>>();
+    expectFullIteratorSet<LeafNode<bool, 3>>();
+    expectFullIteratorSet<LeafNode<ValueMask, 3>>();
+}
+
 }  // namespace
 }  // namespace vdb::tree

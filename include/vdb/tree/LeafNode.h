@@ -9,6 +9,7 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tree/LeafIterators.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/util/Assert.h>
 #include <vdb/util/BitMask.h>
@@ -72,7 +73,7 @@ inline std::mutex& outOfCoreMutex(const void* leaf) {
 /// (one thread loads, under a striped lock, the others wait for it); any mutation needs
 /// exclusive access.
 template <typename ValueT, Index Log2Dim>
-class LeafNode {
+class LeafNode : public LeafIterators<LeafNode<ValueT, Log2Dim>> {
     static_assert(Log2Dim >= 2 && Log2Dim <= 7, "leaf edge must be 4 to 128 voxels");
     static_assert(std::is_trivially_copyable_v<ValueT>, "leaf values must be trivially copyable");
 
@@ -244,52 +245,7 @@ public:
     /// Exchanges buffers `i` and `j` without copying values.
     void swapBuffers(Index i, Index j);
 
-    // ---- Value iterators over the leaf's mask (paper 3.3)
-    /// Visits the voxels selected by `Filter`; `pos()` is the offset.
-    template <ValueFilter Filter, bool IsConst>
-    class ValueIter {
-    public:
-        using NodeT = std::conditional_t<IsConst, const LeafNode, LeafNode>;
-        ValueIter() = default;
-        ValueIter(NodeT* leaf, Index pos) : mLeaf(leaf), mPos(pos) {}
-        explicit operator bool() const { return mPos < NUM_VALUES; }
-        ValueIter& operator++() {
-            if constexpr (Filter == ValueFilter::On) {
-                mPos = mLeaf->mValueMask.findNextOn(mPos + 1);
-            } else if constexpr (Filter == ValueFilter::Off) {
-                mPos = mLeaf->mValueMask.findNextOff(mPos + 1);
-            } else {
-                ++mPos;
-            }
-            return *this;
-        }
-        Index pos() const { return mPos; }
-        Coord getCoord() const { return mLeaf->offsetToGlobalCoord(mPos); }
-        const ValueT& getValue() const { return mLeaf->getValue(mPos); }
-        const ValueT& operator*() const { return getValue(); }
-        bool isValueOn() const { return mLeaf->isValueOn(mPos); }
-        void setValue(const ValueT& v) const requires(!IsConst) { mLeaf->setValueOnly(mPos, v); }
-        bool operator==(std::default_sentinel_t) const { return mPos >= NUM_VALUES; }
-        NodeT& leaf() const { return *mLeaf; }
-
-    private:
-        NodeT* mLeaf = nullptr;
-        Index mPos = NUM_VALUES;
-    };
-    using ValueOnIter = ValueIter<ValueFilter::On, false>;
-    using ValueOnCIter = ValueIter<ValueFilter::On, true>;
-    using ValueOffIter = ValueIter<ValueFilter::Off, false>;
-    using ValueOffCIter = ValueIter<ValueFilter::Off, true>;
-    using ValueAllIter = ValueIter<ValueFilter::All, false>;
-    using ValueAllCIter = ValueIter<ValueFilter::All, true>;
-
-    ValueOnIter beginValueOn() { return {this, mValueMask.findFirstOn()}; }
-    ValueOnCIter beginValueOn() const { return {this, mValueMask.findFirstOn()}; }
-    ValueOnCIter cbeginValueOn() const { return {this, mValueMask.findFirstOn()}; }
-    ValueOffIter beginValueOff() { return {this, mValueMask.findFirstOff()}; }
-    ValueOffCIter cbeginValueOff() const { return {this, mValueMask.findFirstOff()}; }
-    ValueAllIter beginValueAll() { return {this, 0}; }
-    ValueAllCIter cbeginValueAll() const { return {this, 0}; }
+    // Value iterators (paper 3.3): LeafIterators, the base.
 
 private:
     // mData is read with acquire and published with release, so a thread that sees values a
@@ -548,3 +504,10 @@ void LeafNode<ValueT, Log2Dim>::swapBuffers(Index i, Index j) {
 
 #include <vdb/tree/LeafNodeBool.h>
 #include <vdb/tree/LeafNodeMask.h>
+
+namespace vdb::tree {
+// The three leaf classes keep one interface (LeafIterators.h).
+static_assert(LeafNodeConcept<LeafNode<float, 3>>);
+static_assert(LeafNodeConcept<LeafNode<bool, 3>>);
+static_assert(LeafNodeConcept<LeafNode<ValueMask, 3>>);
+}  // namespace vdb::tree

@@ -15,7 +15,7 @@ namespace vdb::tree {
 /// leaf has exactly one buffer (a BitMask) that is always allocated.
 /// Threads: concurrent const calls are safe; any mutation needs exclusive access.
 template <Index Log2Dim>
-class LeafNode<bool, Log2Dim> {
+class LeafNode<bool, Log2Dim> : public LeafIterators<LeafNode<bool, Log2Dim>> {
     static_assert(Log2Dim >= 2 && Log2Dim <= 7, "leaf edge must be 4 to 128 voxels");
 
 public:
@@ -125,44 +125,7 @@ public:
     MaskType& buffer(Index = 0) { return mBuffer; }
     const MaskType& buffer(Index = 0) const { return mBuffer; }
 
-    template <ValueFilter Filter, bool IsConst>
-    class ValueIter {
-    public:
-        using NodeT = std::conditional_t<IsConst, const LeafNode, LeafNode>;
-        ValueIter() = default;
-        ValueIter(NodeT* leaf, Index pos) : mLeaf(leaf), mPos(pos) {}
-        explicit operator bool() const { return mPos < NUM_VALUES; }
-        ValueIter& operator++() {
-            if constexpr (Filter == ValueFilter::On) {
-                mPos = mLeaf->mValueMask.findNextOn(mPos + 1);
-            } else if constexpr (Filter == ValueFilter::Off) {
-                mPos = mLeaf->mValueMask.findNextOff(mPos + 1);
-            } else {
-                ++mPos;
-            }
-            return *this;
-        }
-        Index pos() const { return mPos; }
-        Coord getCoord() const { return mLeaf->offsetToGlobalCoord(mPos); }
-        bool getValue() const { return mLeaf->getValue(mPos); }
-        bool operator*() const { return getValue(); }
-        bool isValueOn() const { return mLeaf->isValueOn(mPos); }
-        void setValue(bool v) const requires(!IsConst) { mLeaf->setValueOnly(mPos, v); }
-        bool operator==(std::default_sentinel_t) const { return mPos >= NUM_VALUES; }
-
-    private:
-        NodeT* mLeaf = nullptr;
-        Index mPos = NUM_VALUES;
-    };
-    using ValueOnIter = ValueIter<ValueFilter::On, false>;
-    using ValueOnCIter = ValueIter<ValueFilter::On, true>;
-    using ValueOffCIter = ValueIter<ValueFilter::Off, true>;
-    using ValueAllCIter = ValueIter<ValueFilter::All, true>;
-    ValueOnIter beginValueOn() { return {this, mValueMask.findFirstOn()}; }
-    ValueOnCIter beginValueOn() const { return {this, mValueMask.findFirstOn()}; }
-    ValueOnCIter cbeginValueOn() const { return {this, mValueMask.findFirstOn()}; }
-    ValueOffCIter cbeginValueOff() const { return {this, mValueMask.findFirstOff()}; }
-    ValueAllCIter cbeginValueAll() const { return {this, 0}; }
+    // Value iterators (paper 3.3): LeafIterators, the base.
 
 private:
     Coord mOrigin;

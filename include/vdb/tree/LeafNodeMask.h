@@ -15,7 +15,7 @@ namespace vdb::tree {
 /// writing `false` deactivates, whichever setter is used, as in OpenVDB's mask trees.
 /// Threads: concurrent const calls are safe; any mutation needs exclusive access.
 template <Index Log2Dim>
-class LeafNode<ValueMask, Log2Dim> {
+class LeafNode<ValueMask, Log2Dim> : public LeafIterators<LeafNode<ValueMask, Log2Dim>> {
     static_assert(Log2Dim >= 2 && Log2Dim <= 7, "leaf edge must be 4 to 128 voxels");
 
 public:
@@ -110,41 +110,7 @@ public:
     Index bufferCount() const { return 0; }
     bool isAllocated() const { return true; }
 
-    template <ValueFilter Filter, bool IsConst>
-    class ValueIter {
-    public:
-        using NodeT = std::conditional_t<IsConst, const LeafNode, LeafNode>;
-        ValueIter() = default;
-        ValueIter(NodeT* leaf, Index pos) : mLeaf(leaf), mPos(pos) {}
-        explicit operator bool() const { return mPos < NUM_VALUES; }
-        ValueIter& operator++() {
-            if constexpr (Filter == ValueFilter::On) {
-                mPos = mLeaf->mValueMask.findNextOn(mPos + 1);
-            } else if constexpr (Filter == ValueFilter::Off) {
-                mPos = mLeaf->mValueMask.findNextOff(mPos + 1);
-            } else {
-                ++mPos;
-            }
-            return *this;
-        }
-        Index pos() const { return mPos; }
-        Coord getCoord() const { return mLeaf->offsetToGlobalCoord(mPos); }
-        bool getValue() const { return mLeaf->getValue(mPos); }
-        bool operator*() const { return getValue(); }
-        bool isValueOn() const { return mLeaf->isValueOn(mPos); }
-        bool operator==(std::default_sentinel_t) const { return mPos >= NUM_VALUES; }
-
-    private:
-        NodeT* mLeaf = nullptr;
-        Index mPos = NUM_VALUES;
-    };
-    using ValueOnCIter = ValueIter<ValueFilter::On, true>;
-    using ValueOffCIter = ValueIter<ValueFilter::Off, true>;
-    using ValueAllCIter = ValueIter<ValueFilter::All, true>;
-    ValueOnCIter beginValueOn() const { return {this, mValueMask.findFirstOn()}; }
-    ValueOnCIter cbeginValueOn() const { return {this, mValueMask.findFirstOn()}; }
-    ValueOffCIter cbeginValueOff() const { return {this, mValueMask.findFirstOff()}; }
-    ValueAllCIter cbeginValueAll() const { return {this, 0}; }
+    // Value iterators (paper 3.3): LeafIterators, the base.
 
 private:
     Coord mOrigin;
