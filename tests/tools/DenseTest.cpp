@@ -185,6 +185,61 @@ TEST(Dense, WholeContiguousBlocksFollowTheRuleForEverySpecialValue) {
     }
 }
 
+TEST(Dense, LongRunsOfMixedBlocksFollowTheRule) {
+    // A run of 75 blocks along z (partial at both ends) where every third block is constant
+    // (a tile, its leaf reused for the next block) and every fifth all background, beside an
+    // existing leaf and an active tile, must give every voxel the rule's value, threaded or
+    // not, and copy back exactly.
+    const CoordBBox box(Coord(-3, 8, -4), Coord(12, 15, 8 * 73 + 2));
+    tools::Dense<float> dense(box);
+    std::mt19937 rng(29);
+    for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i)
+        for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j)
+            for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k) {
+                const Int32 block = (k >> 3) + 1;
+                float v = float(rng() % 7) * 0.5f;  // 0 (the background) one time in seven
+                if (block % 3 == 0)
+                    v = 2.5f;
+                else if (block % 5 == 0)
+                    v = 0.0f;
+                dense.setValue(Coord(i, j, k), v);
+            }
+    FloatTree tree(0.0f);
+    tree.setValueOn(Coord(0, 9, 40), 9.0f);         // a leaf inside a whole block
+    tree.addTile(1, Coord(8, 8, 128), 4.0f, true);  // an active tile, partly inside the box
+    FloatTree serial(tree);
+    tools::copyFromDense(dense, tree, 0.0f);
+    tools::copyFromDense(dense, serial, 0.0f, /*serial=*/true);
+    EXPECT_TRUE(test::treeContents(tree) == test::treeContents(serial));
+    for (Int32 i = box.min()[0]; i <= box.max()[0]; ++i)
+        for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j)
+            for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k) {
+                const Coord ijk{i, j, k};
+                const float v = dense.getValue(ijk);
+                ASSERT_EQ(tree.isValueOn(ijk), v != 0.0f) << ijk;
+                ASSERT_EQ(tree.getValue(ijk), v) << ijk;
+            }
+    // Outside the box, the tile's voxels keep their value and state.
+    EXPECT_EQ(tree.getValue(Coord(14, 9, 130)), 4.0f);
+    EXPECT_TRUE(tree.isValueOn(Coord(14, 9, 130)));
+    // The constant whole blocks became tiles.
+    EXPECT_EQ(tree.probeConstLeaf(Coord(0, 8, 8 * 2)), nullptr);
+    EXPECT_EQ(tree.getValue(Coord(0, 8, 8 * 2)), 2.5f);
+    // And back, over a box one voxel larger on every side (leaves, tiles and background).
+    const CoordBBox wider(box.min().offsetBy(-1), box.max().offsetBy(1));
+    tools::Dense<float> back(wider, -1.0f), backSerial(wider, -1.0f);
+    tools::copyToDense(tree, back);
+    tools::copyToDense(tree, backSerial, /*serial=*/true);
+    tree::ValueAccessor<const FloatTree> acc(tree);
+    for (Int32 i = wider.min()[0]; i <= wider.max()[0]; ++i)
+        for (Int32 j = wider.min()[1]; j <= wider.max()[1]; ++j)
+            for (Int32 k = wider.min()[2]; k <= wider.max()[2]; ++k) {
+                const Coord ijk{i, j, k};
+                ASSERT_EQ(back.getValue(ijk), acc.getValue(ijk)) << ijk;
+                ASSERT_EQ(backSerial.getValue(ijk), acc.getValue(ijk)) << ijk;
+            }
+}
+
 TEST(Dense, AllBackgroundBlockReplacesAnExistingLeaf) {
     FloatTree tree(0.0f);
     tree.setValueOn(Coord(3), 5.0f);
