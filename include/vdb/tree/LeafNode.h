@@ -500,14 +500,11 @@ void LeafNode<ValueT, Log2Dim>::swapBuffers(Index i, Index j) {
     mData = start + std::ptrdiff_t(slotOf(0)) * NUM_VALUES;
 }
 
+// Every leaf class keeps the one interface of LeafIterators.h (the bool and mask leaves check
+// it at the end of their headers).
+static_assert(LeafNodeConcept<LeafNode<float, 3>>);
+
 }  // namespace vdb::tree
 
 #include <vdb/tree/LeafNodeBool.h>
 #include <vdb/tree/LeafNodeMask.h>
-
-namespace vdb::tree {
-// The three leaf classes keep one interface (LeafIterators.h).
-static_assert(LeafNodeConcept<LeafNode<float, 3>>);
-static_assert(LeafNodeConcept<LeafNode<bool, 3>>);
-static_assert(LeafNodeConcept<LeafNode<ValueMask, 3>>);
-}  // namespace vdb::tree

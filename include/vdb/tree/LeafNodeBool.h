@@ -133,4 +133,6 @@ private:
     MaskType mBuffer;     // bit n = value of voxel n
 };
 
+static_assert(LeafNodeConcept<LeafNode<bool, 3>>);
+
 }  // namespace vdb::tree

@@ -117,4 +117,6 @@ private:
     MaskType mValueMask;  // bit n set <=> voxel n is active (and its value is true)
 };
 
+static_assert(LeafNodeConcept<LeafNode<ValueMask, 3>>);
+
 }  // namespace vdb::tree
