@@ -14,6 +14,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace vdb::tools {
@@ -329,6 +330,19 @@ TEST(GridTransformer, BadTransformsAndHugeOutputsAreRefused) {
     EXPECT_THROW(resampleToMatch<BoxSampler>(*in, *fine), ValueError);
     const auto fog = smoothFog(0.1, 5.0);
     EXPECT_THROW(resampleToMatch<BoxSampler>(*fog, *fine), ValueError);
+    // 10^8 times finer: beyond 64 bits of voxels; the message still gives the magnitude.
+    auto finest = FloatGrid::create();
+    finest->setTransform(math::Transform::createLinearTransform(1e-9));
+    try {
+        resampleToMatch<BoxSampler>(*in, *finest);
+        ADD_FAILURE() << "a resampling beyond 64 bits of voxels was not refused";
+    } catch (const ValueError& e) {
+        // The band alone, 10^8 times finer on each axis, is over 10^20 voxels.
+        const std::string message = e.what();
+        const size_t at = message.find("up to ");
+        ASSERT_NE(at, std::string::npos) << message;
+        EXPECT_GT(std::stod(message.substr(at + 6)), 1e20) << message;
+    }
     // A configurable limit.
     GridTransformer doubling(Mat4d::scale(Vec3d(2.0)));
     doubling.setMaxVoxelCount(1000);

@@ -41,9 +41,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -280,7 +282,13 @@ std::vector<CoordBBox> visitedBoxes(const TreeT& tree, const Mat4R& outFromIn, i
         voxels += double(d[0]) * double(d[1]) * double(d[2]) * double(LeafT::NUM_VALUES);
     }
     if (voxels > double(maxVoxels)) {
-        throw ValueError("resampling would produce up to " + std::to_string(Index64(voxels)) +
+        // Beyond 64 bits the count is only an order of magnitude.
+        std::ostringstream count;
+        if (voxels < 9.2e18)
+            count << Index64(voxels);
+        else
+            count << std::setprecision(2) << voxels;
+        throw ValueError("resampling would produce up to " + count.str() +
                          " voxels, more than the limit of " + std::to_string(maxVoxels));
     }
     return boxes;
