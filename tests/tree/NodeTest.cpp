@@ -251,7 +251,8 @@ TYPED_TEST(RootTableTyped, RootNodeEntriesFollowTilesAndChildren) {
         EXPECT_EQ(e->tile, t.first) << k;
         EXPECT_EQ(e->active, t.second) << k;
         tree::detail::NoCache none;
-        EXPECT_EQ(root.isValueOnAndCache(k.offsetBy(7), none), t.second) << k;
+        EXPECT_EQ(root.template getAndCache<tree::ops::IsValueOn>(k.offsetBy(7), none), t.second)
+            << k;
     }
     for (const Coord& k : children) {
         keys.push_back(k);

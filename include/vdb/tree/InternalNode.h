@@ -8,6 +8,7 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tree/AccessOps.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/util/Assert.h>
 #include <vdb/util/BitMask.h>
@@ -134,37 +135,28 @@ public:
                                      ChildT::TOTAL);
     }
 
-    // ---- Random access (recursive; the ...AndCache forms record each child in `acc`)
-    ValueType getValue(const Coord& ijk) const {
-        detail::NoCache none;
-        return getValueAndCache(ijk, none);
-    }
-    bool isValueOn(const Coord& ijk) const {
-        detail::NoCache none;
-        return isValueOnAndCache(ijk, none);
-    }
+    // ---- Random access (recursive; see AccessOps.h)
+    ValueType getValue(const Coord& ijk) const { return get<ops::GetValue>(ijk); }
+    bool isValueOn(const Coord& ijk) const { return get<ops::IsValueOn>(ijk); }
     bool probeValue(const Coord& ijk, ValueType& value) const {
-        detail::NoCache none;
-        return probeValueAndCache(ijk, value, none);
+        return get<ops::ProbeValue>(ijk, value);
     }
-    template <typename AccT>
-    ValueType getValueAndCache(const Coord& ijk, AccT& acc) const;
-    template <typename AccT>
-    bool isValueOnAndCache(const Coord& ijk, AccT& acc) const;
-    template <typename AccT>
-    bool probeValueAndCache(const Coord& ijk, ValueType& value, AccT& acc) const;
+    /// Applies the read operation `OpT` (AccessOps.h) at the tile or the leaf holding `ijk`.
+    template <typename OpT, typename... ArgsT>
+    AccessResult<OpT, LeafNodeType, ArgsT...> get(const Coord& ijk, ArgsT&&... args) const {
+        detail::NoCache none;
+        return getAndCache<OpT>(ijk, none, args...);
+    }
+    /// get() that records in `acc` each node it passes through below this one.
+    template <typename OpT, typename AccT, typename... ArgsT>
+    AccessResult<OpT, LeafNodeType, ArgsT...> getAndCache(const Coord& ijk, AccT& acc,
+                                                          ArgsT&&... args) const;
 
     /// Descends to the voxel at `ijk` and applies `op(leaf, offset)`. On the way, a tile for
     /// which `unchanged(tileValue, tileActive)` is true ends the walk (the operation would not
     /// change it); any other tile is split into a child of its value and state.
     template <typename UnchangedT, typename LeafOpT, typename AccT>
     void modifyValue(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op, AccT& acc);
-
-    /// Returns the leaf that holds `ijk`, or null; `acc` records the path.
-    template <typename AccT>
-    LeafNodeType* probeLeafAndCache(const Coord& ijk, AccT& acc);
-    template <typename AccT>
-    const LeafNodeType* probeConstLeafAndCache(const Coord& ijk, AccT& acc) const;
 
     /// Deactivates the voxel at `ijk`, sets its value to `background`, and deletes every child
     /// on the path that is left indistinguishable from background (no child, no active value,
@@ -299,51 +291,18 @@ void InternalNode<ChildT, Log2Dim>::deleteChildren() {
 }
 
 template <typename ChildT, Index Log2Dim>
-template <typename AccT>
-auto InternalNode<ChildT, Log2Dim>::getValueAndCache(const Coord& ijk, AccT& acc) const
-    -> ValueType {
+template <typename OpT, typename AccT, typename... ArgsT>
+auto InternalNode<ChildT, Log2Dim>::getAndCache(const Coord& ijk, AccT& acc, ArgsT&&... args) const
+    -> AccessResult<OpT, LeafNodeType, ArgsT...> {
     const Index n = coordToOffset(ijk);
     if (!mChildMask.isOn(n))
-        return mTable[n].value;
+        return OpT::tile(mTable[n].value, mValueMask.isOn(n), args...);
     const ChildT* child = mTable[n].child;
     acc.insert(ijk, child);
     if constexpr (ChildT::LEVEL == 0) {
-        return child->getValue(ijk);
+        return OpT::leaf(*child, ChildT::coordToOffset(ijk), args...);
     } else {
-        return child->getValueAndCache(ijk, acc);
-    }
-}
-
-template <typename ChildT, Index Log2Dim>
-template <typename AccT>
-bool InternalNode<ChildT, Log2Dim>::isValueOnAndCache(const Coord& ijk, AccT& acc) const {
-    const Index n = coordToOffset(ijk);
-    if (!mChildMask.isOn(n))
-        return mValueMask.isOn(n);
-    const ChildT* child = mTable[n].child;
-    acc.insert(ijk, child);
-    if constexpr (ChildT::LEVEL == 0) {
-        return child->isValueOn(ijk);
-    } else {
-        return child->isValueOnAndCache(ijk, acc);
-    }
-}
-
-template <typename ChildT, Index Log2Dim>
-template <typename AccT>
-bool InternalNode<ChildT, Log2Dim>::probeValueAndCache(const Coord& ijk, ValueType& value,
-                                                       AccT& acc) const {
-    const Index n = coordToOffset(ijk);
-    if (!mChildMask.isOn(n)) {
-        value = mTable[n].value;
-        return mValueMask.isOn(n);
-    }
-    const ChildT* child = mTable[n].child;
-    acc.insert(ijk, child);
-    if constexpr (ChildT::LEVEL == 0) {
-        return child->probeValue(ijk, value);
-    } else {
-        return child->probeValueAndCache(ijk, value, acc);
+        return child->template getAndCache<OpT>(ijk, acc, args...);
     }
 }
 
@@ -367,38 +326,6 @@ void InternalNode<ChildT, Log2Dim>::modifyValue(const Coord& ijk, const Unchange
         op(*child, ChildT::coordToOffset(ijk));
     } else {
         child->modifyValue(ijk, unchanged, op, acc);
-    }
-}
-
-template <typename ChildT, Index Log2Dim>
-template <typename AccT>
-auto InternalNode<ChildT, Log2Dim>::probeLeafAndCache(const Coord& ijk, AccT& acc)
-    -> LeafNodeType* {
-    const Index n = coordToOffset(ijk);
-    if (!mChildMask.isOn(n))
-        return nullptr;
-    ChildT* child = mTable[n].child;
-    acc.insert(ijk, child);
-    if constexpr (ChildT::LEVEL == 0) {
-        return child;
-    } else {
-        return child->probeLeafAndCache(ijk, acc);
-    }
-}
-
-template <typename ChildT, Index Log2Dim>
-template <typename AccT>
-auto InternalNode<ChildT, Log2Dim>::probeConstLeafAndCache(const Coord& ijk, AccT& acc) const
-    -> const LeafNodeType* {
-    const Index n = coordToOffset(ijk);
-    if (!mChildMask.isOn(n))
-        return nullptr;
-    const ChildT* child = mTable[n].child;
-    acc.insert(ijk, child);
-    if constexpr (ChildT::LEVEL == 0) {
-        return child;
-    } else {
-        return child->probeConstLeafAndCache(ijk, acc);
     }
 }
 

@@ -65,20 +65,15 @@ public:
     static Coord coordToKey(const Coord& ijk) { return ijk.alignedDown(ChildT::TOTAL); }
     static constexpr bool contains(const Coord&) { return true; }
 
-    // ---- Random access (recursive; the ...AndCache forms record each child in `acc`)
-    template <typename AccT>
-    ValueType getValueAndCache(const Coord& ijk, AccT& acc) const;
-    template <typename AccT>
-    bool isValueOnAndCache(const Coord& ijk, AccT& acc) const;
-    template <typename AccT>
-    bool probeValueAndCache(const Coord& ijk, ValueType& value, AccT& acc) const;
+    // ---- Random access (recursive; see AccessOps.h). Regions without an entry read as the
+    // background, inactive.
+    /// See InternalNode::getAndCache.
+    template <typename OpT, typename AccT, typename... ArgsT>
+    AccessResult<OpT, LeafNodeType, ArgsT...> getAndCache(const Coord& ijk, AccT& acc,
+                                                          ArgsT&&... args) const;
     /// See InternalNode::modifyValue; regions without an entry are background tiles.
     template <typename UnchangedT, typename LeafOpT, typename AccT>
     void modifyValue(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op, AccT& acc);
-    template <typename AccT>
-    LeafNodeType* probeLeafAndCache(const Coord& ijk, AccT& acc);
-    template <typename AccT>
-    const LeafNodeType* probeConstLeafAndCache(const Coord& ijk, AccT& acc) const;
 
     /// See InternalNode::eraseValue; entries left as plain background are removed.
     void eraseValue(const Coord& ijk, bool& deleted);
@@ -165,44 +160,17 @@ void RootNode<ChildT, TableT>::clear() {
 }
 
 template <typename ChildT, typename TableT>
-template <typename AccT>
-auto RootNode<ChildT, TableT>::getValueAndCache(const Coord& ijk, AccT& acc) const -> ValueType {
+template <typename OpT, typename AccT, typename... ArgsT>
+auto RootNode<ChildT, TableT>::getAndCache(const Coord& ijk, AccT& acc, ArgsT&&... args) const
+    -> AccessResult<OpT, LeafNodeType, ArgsT...> {
     const Entry* e = mTable.find(coordToKey(ijk));
     if (!e)
-        return mBackground;
+        return OpT::tile(mBackground, false, args...);
     if (!e->child)
-        return e->tile;
-    acc.insert(ijk, static_cast<const ChildT*>(e->child));
-    return e->child->getValueAndCache(ijk, acc);
-}
-
-template <typename ChildT, typename TableT>
-template <typename AccT>
-bool RootNode<ChildT, TableT>::isValueOnAndCache(const Coord& ijk, AccT& acc) const {
-    const Entry* e = mTable.find(coordToKey(ijk));
-    if (!e)
-        return false;
-    if (!e->child)
-        return e->active;
-    acc.insert(ijk, static_cast<const ChildT*>(e->child));
-    return e->child->isValueOnAndCache(ijk, acc);
-}
-
-template <typename ChildT, typename TableT>
-template <typename AccT>
-bool RootNode<ChildT, TableT>::probeValueAndCache(const Coord& ijk, ValueType& value,
-                                                  AccT& acc) const {
-    const Entry* e = mTable.find(coordToKey(ijk));
-    if (!e) {
-        value = mBackground;
-        return false;
-    }
-    if (!e->child) {
-        value = e->tile;
-        return e->active;
-    }
-    acc.insert(ijk, static_cast<const ChildT*>(e->child));
-    return e->child->probeValueAndCache(ijk, value, acc);
+        return OpT::tile(e->tile, e->active, args...);
+    const ChildT* child = e->child;
+    acc.insert(ijk, child);
+    return child->template getAndCache<OpT>(ijk, acc, args...);
 }
 
 template <typename ChildT, typename TableT>
@@ -226,27 +194,6 @@ void RootNode<ChildT, TableT>::modifyValue(const Coord& ijk, const UnchangedT& u
     }
     acc.insert(ijk, child);
     child->modifyValue(ijk, unchanged, op, acc);
-}
-
-template <typename ChildT, typename TableT>
-template <typename AccT>
-auto RootNode<ChildT, TableT>::probeLeafAndCache(const Coord& ijk, AccT& acc) -> LeafNodeType* {
-    Entry* e = mTable.find(coordToKey(ijk));
-    if (!e || !e->child)
-        return nullptr;
-    acc.insert(ijk, e->child);
-    return e->child->probeLeafAndCache(ijk, acc);
-}
-
-template <typename ChildT, typename TableT>
-template <typename AccT>
-auto RootNode<ChildT, TableT>::probeConstLeafAndCache(const Coord& ijk, AccT& acc) const
-    -> const LeafNodeType* {
-    const Entry* e = mTable.find(coordToKey(ijk));
-    if (!e || !e->child)
-        return nullptr;
-    acc.insert(ijk, static_cast<const ChildT*>(e->child));
-    return e->child->probeConstLeafAndCache(ijk, acc);
 }
 
 template <typename ChildT, typename TableT>

@@ -141,26 +141,20 @@ public:
     const TopT& root() const { return *mTop; }
 
     // ---- Random access, top-down (an Accessor is faster for coherent access)
-    ValueType getValue(const Coord& ijk) const {
-        if (!inDomain(ijk))
-            return mBackground;
-        detail::NoCache none;
-        return mTop->getValueAndCache(ijk, none);
-    }
-    bool isValueOn(const Coord& ijk) const {
-        if (!inDomain(ijk))
-            return false;
-        detail::NoCache none;
-        return mTop->isValueOnAndCache(ijk, none);
-    }
+    ValueType getValue(const Coord& ijk) const { return get<ops::GetValue>(ijk); }
+    bool isValueOn(const Coord& ijk) const { return get<ops::IsValueOn>(ijk); }
     /// Stores the value at `ijk` in `value` and returns its active state.
     bool probeValue(const Coord& ijk, ValueType& value) const {
-        if (!inDomain(ijk)) {
-            value = mBackground;
-            return false;
-        }
+        return get<ops::ProbeValue>(ijk, value);
+    }
+    /// Applies the read operation `OpT` (AccessOps.h) at the tile or the leaf holding `ijk`;
+    /// outside a bounded tree's domain, at the background, inactive.
+    template <typename OpT, typename... ArgsT>
+    AccessResult<OpT, LeafNodeType, ArgsT...> get(const Coord& ijk, ArgsT&&... args) const {
+        if (!inDomain(ijk))
+            return OpT::tile(mBackground, false, args...);
         detail::NoCache none;
-        return mTop->probeValueAndCache(ijk, value, none);
+        return mTop->template getAndCache<OpT>(ijk, none, args...);
     }
     /// Sets the value at `ijk` and activates it, allocating nodes as needed.
     void setValue(const Coord& ijk, const ValueType& value) { setValueOn(ijk, value); }
@@ -208,17 +202,9 @@ public:
 
     // ---- Leaves
     LeafNodeType* probeLeaf(const Coord& ijk) {
-        if (!inDomain(ijk))
-            return nullptr;
-        detail::NoCache none;
-        return mTop->probeLeafAndCache(ijk, none);
+        return const_cast<LeafNodeType*>(get<ops::ProbeLeaf>(ijk));
     }
-    const LeafNodeType* probeConstLeaf(const Coord& ijk) const {
-        if (!inDomain(ijk))
-            return nullptr;
-        detail::NoCache none;
-        return mTop->probeConstLeafAndCache(ijk, none);
-    }
+    const LeafNodeType* probeConstLeaf(const Coord& ijk) const { return get<ops::ProbeLeaf>(ijk); }
     const LeafNodeType* probeLeaf(const Coord& ijk) const { return probeConstLeaf(ijk); }
     /// Returns the leaf that holds `ijk`, creating it (and its parents) if needed.
     LeafNodeType* touchLeaf(const Coord& ijk);

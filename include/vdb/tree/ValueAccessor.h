@@ -60,26 +60,21 @@ public:
     }
 
     // ---- Reads
-    ValueType getValue(const Coord& ijk) const {
-        sync();
-        if (hit<0>(ijk))
-            return std::get<0>(mNodes)->getValue(ijk);
-        return getValueAt<1>(ijk);
-    }
-    bool isValueOn(const Coord& ijk) const {
-        sync();
-        if (hit<0>(ijk))
-            return std::get<0>(mNodes)->isValueOn(ijk);
-        return isValueOnAt<1>(ijk);
-    }
+    ValueType getValue(const Coord& ijk) const { return get<ops::GetValue>(ijk); }
+    bool isValueOn(const Coord& ijk) const { return get<ops::IsValueOn>(ijk); }
     /// Stores the value at `ijk` in `value` and returns its active state.
     bool probeValue(const Coord& ijk, ValueType& value) const {
-        sync();
-        return probeValueAt<0>(ijk, value);
+        return get<ops::ProbeValue>(ijk, value);
     }
-    const LeafNodeType* probeConstLeaf(const Coord& ijk) const {
+    const LeafNodeType* probeConstLeaf(const Coord& ijk) const { return get<ops::ProbeLeaf>(ijk); }
+    /// Applies the read operation `OpT` (AccessOps.h) at the tile or the leaf holding `ijk`,
+    /// starting at the lowest cached node that contains it.
+    template <typename OpT, typename... ArgsT>
+    AccessResult<OpT, LeafNodeType, ArgsT...> get(const Coord& ijk, ArgsT&&... args) const {
         sync();
-        return probeConstLeafAt<0>(ijk);
+        if (hit<0>(ijk))
+            return OpT::leaf(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk), args...);
+        return getMiss<OpT>(ijk, args...);
     }
 
     // ---- Writes (not on a const tree); writes outside a bounded tree's domain throw IndexError
@@ -119,8 +114,7 @@ public:
     /// Random deletion; see Tree::eraseValue.
     void eraseValue(const Coord& ijk) requires(!IS_CONST) { mTree->eraseValue(ijk); }
     LeafNodeType* probeLeaf(const Coord& ijk) requires(!IS_CONST) {
-        sync();
-        return probeLeafAt<0>(ijk);
+        return const_cast<LeafNodeType*>(get<ops::ProbeLeaf>(ijk));
     }
     /// Returns the leaf holding `ijk`, creating it and its parents if needed.
     LeafNodeType* touchLeaf(const Coord& ijk) requires(!IS_CONST) {
@@ -180,94 +174,23 @@ private:
         }
     }
 
-    template <Index L>
-    [[gnu::noinline, gnu::flatten]] ValueType getValueAt(Coord ijk) const requires(L == 1) {
-        return getValueFrom<L>(ijk);
+    // The walk below the cached leaf: from the lowest cached node that holds `ijk`, else from
+    // the top. Out of line, so that the hit path above stays small where it is inlined.
+    template <typename OpT, typename... ArgsT>
+    [[gnu::noinline, gnu::flatten]] AccessResult<OpT, LeafNodeType, ArgsT...> getMiss(
+        Coord ijk, ArgsT&... args) const {
+        return getFrom<1, OpT>(ijk, args...);
     }
-    template <Index L>
-    ValueType getValueFrom(const Coord& ijk) const {
+    template <Index L, typename OpT, typename... ArgsT>
+    AccessResult<OpT, LeafNodeType, ArgsT...> getFrom(const Coord& ijk, ArgsT&... args) const {
         if constexpr (L == TOP) {
             if (!TreeType::inDomain(ijk))
-                return mTree->background();
-            return mTree->topNode().getValueAndCache(ijk, *this);
+                return OpT::tile(mTree->background(), false, args...);
+            return mTree->topNode().template getAndCache<OpT>(ijk, *this, args...);
         } else {
             if (!hit<L>(ijk))
-                return getValueFrom<L + 1>(ijk);
-            if constexpr (L == 0) {
-                return std::get<0>(mNodes)->getValue(ijk);
-            } else {
-                return std::get<L>(mNodes)->getValueAndCache(ijk, *this);
-            }
-        }
-    }
-    template <Index L>
-    [[gnu::noinline, gnu::flatten]] bool isValueOnAt(Coord ijk) const requires(L == 1) {
-        return isValueOnFrom<L>(ijk);
-    }
-    template <Index L>
-    bool isValueOnFrom(const Coord& ijk) const {
-        if constexpr (L == TOP) {
-            if (!TreeType::inDomain(ijk))
-                return false;
-            return mTree->topNode().isValueOnAndCache(ijk, *this);
-        } else {
-            if (!hit<L>(ijk))
-                return isValueOnFrom<L + 1>(ijk);
-            if constexpr (L == 0) {
-                return std::get<0>(mNodes)->isValueOn(ijk);
-            } else {
-                return std::get<L>(mNodes)->isValueOnAndCache(ijk, *this);
-            }
-        }
-    }
-    template <Index L>
-    bool probeValueAt(const Coord& ijk, ValueType& value) const {
-        if constexpr (L == TOP) {
-            if (!TreeType::inDomain(ijk)) {
-                value = mTree->background();
-                return false;
-            }
-            return mTree->topNode().probeValueAndCache(ijk, value, *this);
-        } else {
-            if (!hit<L>(ijk))
-                return probeValueAt<L + 1>(ijk, value);
-            if constexpr (L == 0) {
-                return std::get<0>(mNodes)->probeValue(ijk, value);
-            } else {
-                return std::get<L>(mNodes)->probeValueAndCache(ijk, value, *this);
-            }
-        }
-    }
-    template <Index L>
-    const LeafNodeType* probeConstLeafAt(const Coord& ijk) const {
-        if constexpr (L == TOP) {
-            if (!TreeType::inDomain(ijk))
-                return nullptr;
-            return mTree->topNode().probeConstLeafAndCache(ijk, *this);
-        } else {
-            if (!hit<L>(ijk))
-                return probeConstLeafAt<L + 1>(ijk);
-            if constexpr (L == 0) {
-                return std::get<0>(mNodes);
-            } else {
-                return std::get<L>(mNodes)->probeConstLeafAndCache(ijk, *this);
-            }
-        }
-    }
-    template <Index L>
-    LeafNodeType* probeLeafAt(const Coord& ijk) {
-        if constexpr (L == TOP) {
-            if (!TreeType::inDomain(ijk))
-                return nullptr;
-            return mTree->topNode().probeLeafAndCache(ijk, *this);
-        } else {
-            if (!hit<L>(ijk))
-                return probeLeafAt<L + 1>(ijk);
-            if constexpr (L == 0) {
-                return std::get<0>(mNodes);
-            } else {
-                return std::get<L>(mNodes)->probeLeafAndCache(ijk, *this);
-            }
+                return getFrom<L + 1, OpT>(ijk, args...);
+            return std::get<L>(mNodes)->template getAndCache<OpT>(ijk, *this, args...);
         }
     }
 
