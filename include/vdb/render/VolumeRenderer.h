@@ -64,6 +64,7 @@
 #include <vdb/tools/Interpolation.h>
 #include <vdb/tools/RayIntersector.h>
 #include <vdb/tree/HierarchicalDDA.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/Parallel.h>
@@ -337,26 +338,11 @@ namespace detail {
 template <typename NodeT, typename F>
 void forEachActiveTile(const NodeT& node, const F& f) {
     using ChildT = typename NodeT::ChildNodeType;
-    if constexpr (tree::IS_ROOT_NODE<NodeT>) {
-        for (auto c = node.cbegin(); node.valid(c); node.next(c)) {
-            const auto& entry = node.entry(c);
-            if (entry.child) {
-                if constexpr (ChildT::LEVEL > 0)
-                    forEachActiveTile(*entry.child, f);
-            } else if (entry.active) {
-                f(CoordBBox::createCube(node.key(c), Int32(ChildT::DIM)), entry.tile);
-            }
-        }
-    } else {
-        for (Index n : node.getValueMask().onBits())
-            if (!node.isChild(n))
-                f(CoordBBox::createCube(node.offsetToGlobalCoord(n), Int32(ChildT::DIM)),
-                  node.getTileValue(n));
-        if constexpr (ChildT::LEVEL > 0) {
-            for (Index n : node.getChildMask().onBits())
-                forEachActiveTile(*node.getChild(n), f);
-        }
-    }
+    tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto& tile) {
+        f(CoordBBox::createCube(tile.origin, Int32(ChildT::DIM)), tile.value);
+    });
+    if constexpr (ChildT::LEVEL > 0)
+        tree::forEachChild(node, [&](const ChildT& child) { forEachActiveTile(child, f); });
 }
 
 /// Per-leaf facts of a fog volume, from one pass over its leaves.

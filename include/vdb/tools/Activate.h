@@ -27,6 +27,7 @@
 #include <vdb/math/Math.h>
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 
 #include <bit>
@@ -74,19 +75,16 @@ void setStatesWhere(TreeT& tree, const MatchT& matches, bool threaded) {
     using TopT = typename TreeT::TopNodeType;
     constexpr Index TOP = TopT::LEVEL;
 
-    // The tiles of one internal node: the entries that are neither children nor in state On.
+    // The tiles of one node (internal or root) not yet in state On.
+    constexpr auto FILTER = On ? tree::TileFilter::Inactive : tree::TileFilter::Active;
     const auto visitTiles = [&](auto& node) {
         using NodeT = std::remove_reference_t<decltype(node)>;
-        for (Index w = 0; w < NodeT::MaskType::WORD_COUNT; ++w) {
-            const uint64_t state = node.getValueMask().getWord(w);
-            uint64_t bits = (On ? ~state : state) & ~node.getChildMask().getWord(w);
-            for (; bits != 0; bits &= bits - 1) {
-                const Index n = (w << 6) + Index(std::countr_zero(bits));
-                const auto value = node.getTileValue(n);
-                if (matches(value))
-                    node.setTile(n, tree::detail::tileValue<NodeT>(value, On), On);
+        tree::forEachTile<FILTER>(node, [&](auto& tile) {
+            if (matches(tile.value)) {
+                tile.value = tree::detail::tileValue<NodeT>(tile.value, On);
+                tile.active = On;
             }
-        }
+        });
     };
 
     NodeLists<TreeT> lists(tree);
@@ -110,18 +108,7 @@ void setStatesWhere(TreeT& tree, const MatchT& matches, bool threaded) {
     }
     (std::make_integer_sequence<Index, TOP - 1>{});
 
-    auto& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            auto& e = top.entry(c);
-            if (!e.child && e.active != On && matches(e.tile)) {
-                e.tile = tree::detail::tileValue<TopT>(e.tile, On);
-                e.active = On;
-            }
-        }
-    } else {
-        visitTiles(top);
-    }
+    visitTiles(tree.topNode());
 }
 
 /// The match of activate() and deactivate(): exact for a zero tolerance, else within it.

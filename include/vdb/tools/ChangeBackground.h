@@ -28,6 +28,7 @@
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/detail/NodeLists.h>
 #include <vdb/tree/LeafManager.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 
 #include <bit>
@@ -81,38 +82,15 @@ namespace detail {
 template <typename TreeT, typename FuncT>
 void forEachTile(TreeT& tree, const FuncT& f, bool threaded) {
     using TopT = typename TreeT::TopNodeType;
-    using ValueT = typename TreeT::ValueType;
     const auto changeTiles = [&f](auto& node) {
-        const auto& children = node.getChildMask();
-        for (Index w = 0; w < children.WORD_COUNT; ++w) {
-            for (uint64_t bits = ~children.getWord(w); bits; bits &= bits - 1) {
-                const Index n = (w << 6) + Index(std::countr_zero(bits));
-                ValueT value = node.getTileValue(n);
-                bool active = node.isTileOn(n);
-                const bool wasActive = active;
-                f(value, active);
-                if (active != wasActive)
-                    node.setTile(n, value, active);
-                else
-                    node.setTileValueOnly(n, value);
-            }
-        }
+        tree::forEachTile(node, [&f](auto& tile) { f(tile.value, tile.active); });
     };
     const NodeLists<TreeT> nodes(tree, 1);
     [&]<Index... L>(std::integer_sequence<Index, L...>) {
         (nodes.template foreach<L + 1>(changeTiles, threaded), ...);
     }
     (std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
-    TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            auto& e = top.entry(c);
-            if (!e.child)
-                f(e.tile, e.active);
-        }
-    } else {
-        changeTiles(top);
-    }
+    changeTiles(tree.topNode());
 }
 
 /// Calls `f(value)` on every inactive value of `tree`: the inactive voxels of every leaf and

@@ -49,6 +49,7 @@
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/detail/LeafPairs.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/Parallel.h>
@@ -124,13 +125,11 @@ void forEachTile(const TreeT& tree, bool active, const FnT& fn) {
     using TopT = typename TreeT::TopNodeType;
     const auto visit = [&](const auto& node) {
         using NodeT = std::remove_cvref_t<decltype(node)>;
-        for (Index w = 0; w < NodeT::MaskType::WORD_COUNT; ++w) {
-            const uint64_t state = node.getValueMask().getWord(w);
-            uint64_t bits = (active ? state : ~state) & ~node.getChildMask().getWord(w);
-            for (; bits != 0; bits &= bits - 1) {
-                const Index n = (w << 6) + Index(std::countr_zero(bits));
-                fn(NodeT::LEVEL, node.offsetToGlobalCoord(n), node.getTileValue(n));
-            }
+        const auto call = [&](const auto& tile) { fn(NodeT::LEVEL, tile.origin, tile.value); };
+        if (active) {
+            tree::forEachTile<tree::TileFilter::Active>(node, call);
+        } else {
+            tree::forEachTile<tree::TileFilter::Inactive>(node, call);
         }
     };
     NodeLists<const TreeT> lists(tree, 1);
@@ -142,16 +141,7 @@ void forEachTile(const TreeT& tree, bool active, const FnT& fn) {
         (visitAll(lists.template nodes<L + 1>()), ...);
     }
     (std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
-    const TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            const auto& e = top.entry(c);
-            if (!e.child && e.active == active)
-                fn(TopT::LEVEL, top.key(c), e.tile);
-        }
-    } else {
-        visit(top);
-    }
+    visit(tree.topNode());
 }
 
 /// The voxels of `tree` that a box or mask clip can keep, as a mask tree of the same layout:

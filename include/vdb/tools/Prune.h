@@ -38,6 +38,7 @@
 #include <vdb/math/Math.h>
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/tree/TreeConfigs.h>
@@ -252,43 +253,32 @@ void pruneBottomUp(TreeT& tree, const DecideT& decide, bool threaded) {
         bool any = false;
         ValueT value{};
         bool state = false;
-        for (Index n : node.getChildMask().onBits()) {
-            if (decide(*node.getChild(n), value, state)) {
-                node.setTile(n, value, state);
+        tree::forEachChild(node, [&](auto& child) {
+            if (decide(child, value, state)) {
+                tree::setTile(node, child.origin(), value, state);  // deletes `child`
                 any = true;
             }
-        }
+        });
         if (any)
             freed.store(true, std::memory_order_relaxed);
     };
 
-    // Levels 1 .. TOP-1, each in parallel, children before parents.
+    // Levels 1 .. TOP-1, each in parallel, children before parents; then the top.
     if constexpr (TopT::LEVEL > 1) {
         const NodeLists<TreeT> lists(tree, 1);
         foreachLevelBottomUp<1, TopT::LEVEL>(lists, pruneChildren, threaded);
     }
-
     TopT& top = tree.topNode();
+    pruneChildren(top);
+    // A root keeps no entry that reads as its background (as OpenVDB's prune does).
     if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        ValueT value{};
-        bool state = false;
         std::vector<Coord> background;
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            auto& e = top.entry(c);
-            if (e.child && decide(*e.child, value, state)) {
-                delete e.child;
-                e.child = nullptr;
-                e.tile = value;
-                e.active = state;
-                freed.store(true, std::memory_order_relaxed);
-            }
-            if (!e.child && !e.active && math::isApproxEqual(e.tile, top.background()))
-                background.push_back(top.key(c));
-        }
+        tree::forEachTile<tree::TileFilter::Inactive>(top, [&](const auto& tile) {
+            if (math::isApproxEqual(tile.value, top.background()))
+                background.push_back(tile.origin);
+        });
         for (const Coord& key : background)
             top.eraseEntry(key);
-    } else {
-        pruneChildren(top);
     }
     if (freed.load(std::memory_order_relaxed))
         tree.clearAllAccessors();

@@ -47,8 +47,10 @@ public:
     const EntryT* find(const Coord& key) const { return const_cast<RootTable*>(this)->find(key); }
 
     /// Returns the entry of `key`, default-constructed if it was absent. Pointers to other
-    /// entries are invalidated when the table grows.
+    /// entries and cursors are invalidated when the table grows, which only adding a key does.
     EntryT& insert(const Coord& key) {
+        if (EntryT* e = find(key))
+            return *e;
         if (2 * (mCount + 1) > mSlots.size())
             grow();
         for (size_t i = home(key);; i = (i + 1) & mMask) {

@@ -19,6 +19,7 @@
 #include <vdb/math/Coord.h>
 #include <vdb/tree/InternalNode.h>
 #include <vdb/tree/LeafNode.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/RootNode.h>
@@ -369,55 +370,12 @@ inline auto Tree<TopT>::touchLeaf(const Coord& ijk) -> LeafNodeType* {
     return result;
 }
 
-namespace detail {
-
-/// The child of `node` (an internal node or a root) that holds `ijk`, created from the tile it
-/// replaces when there is none.
-template <typename NodeT>
-typename NodeT::ChildNodeType& childFor(NodeT& node, const Coord& ijk) {
-    using ChildT = typename NodeT::ChildNodeType;
-    if constexpr (IS_ROOT_NODE<NodeT>) {
-        const Coord key = NodeT::coordToKey(ijk);
-        const auto* e = node.findEntry(key);
-        if (e && e->child)
-            return *e->child;
-        auto* child = new ChildT(key, e ? e->tile : node.background(), e ? e->active : false);
-        node.setChild(child);
-        return *child;
-    } else {
-        const Index n = NodeT::coordToOffset(ijk);
-        if (ChildT* child = node.getChild(n))
-            return *child;
-        auto* child = new ChildT(ijk, node.getTileValue(n), node.isTileOn(n));
-        node.setChild(n, child);
-        return *child;
-    }
-}
-
-/// Descends from `node` to the node at `level` that holds `ijk`, creating nodes on the way,
-/// and calls `op` on it.
-template <Index Level, typename NodeT, typename OpT>
-void descendTo(NodeT& node, const Coord& ijk, const OpT& op) {
-    if constexpr (NodeT::LEVEL == Level) {
-        op(node);
-    } else {
-        descendTo<Level>(childFor(node, ijk), ijk, op);
-    }
-}
-
-}  // namespace detail
-
 template <TopNodeType TopT>
 inline void Tree<TopT>::addLeaf(std::unique_ptr<LeafNodeType> leaf) {
     VDB_ASSERT(leaf != nullptr);
-    const Coord origin = leaf->origin();
-    checkDomain(origin);
+    checkDomain(leaf->origin());
     bool replaced = false;
-    detail::descendTo<1>(*mTop, origin, [&](auto& parent) {
-        const Index n = std::remove_cvref_t<decltype(parent)>::coordToOffset(origin);
-        replaced = parent.getChild(n) != nullptr;
-        parent.setChild(n, leaf.release());
-    });
+    tree::addLeaf(*mTop, std::move(leaf), &replaced);
     if (replaced)
         clearAllAccessors();
 }
@@ -428,22 +386,13 @@ inline void Tree<TopT>::addTile(Index level, const Coord& ijk, const ValueType& 
     VDB_ASSERT(level >= 1 && level <= TopT::LEVEL);
     checkDomain(ijk);
     bool freed = false;
-    const auto setTile = [&](auto& node) {
-        using NodeT = std::remove_cvref_t<decltype(node)>;
-        if constexpr (IS_ROOT_NODE<NodeT>) {
-            const auto* e = node.findEntry(NodeT::coordToKey(ijk));
-            freed = e && e->child;
-            node.setTile(ijk, value, active);
-        } else {
-            const Index n = NodeT::coordToOffset(ijk);
-            freed = node.getChild(n) != nullptr;
-            node.setTile(n, value, active);
-        }
-    };
     // Dispatch the run-time level to the compile-time descent: the node at `level` is the
     // parent of the new tile's region, one level up from the tile's own level.
     [&]<Index... L>(std::integer_sequence<Index, L...>) {
-        ((level == L + 1 ? detail::descendTo<L + 1>(*mTop, ijk, setTile) : void()), ...);
+        ((level == L + 1
+              ? void(freed = tree::setTile(tree::touchNode<L + 1>(*mTop, ijk), ijk, value, active))
+              : void()),
+         ...);
     }
     (std::make_integer_sequence<Index, TopT::LEVEL>{});
     if (freed)

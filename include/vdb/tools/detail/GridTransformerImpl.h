@@ -31,6 +31,7 @@
 #include <vdb/tools/SignedFloodFill.h>
 #include <vdb/tools/detail/LeafBuild.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/Assert.h>
 #include <vdb/util/Parallel.h>
@@ -128,40 +129,19 @@ void forEachValuedTile(const TreeT& tree, const OpT& op) {
         if (active || !(value == background))
             op(box, value, active);
     };
-    const NodeLists<const TreeT> lists(tree, 1);
-    const auto internal = [&](auto level) {
-        constexpr Index L = decltype(level)::value;
-        for (const auto* node : lists.template nodes<L>()) {
-            using NodeT = std::remove_cv_t<std::remove_pointer_t<decltype(node)>>;
-            constexpr Int32 dim = Int32(NodeT::ChildNodeType::DIM);
-            for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
-                if (node->getChildMask().isOn(n))
-                    continue;
-                visit(CoordBBox::createCube(node->offsetToGlobalCoord(n), dim),
-                      node->getTileValue(n), node->getValueMask().isOn(n));
-            }
-        }
+    const auto visitNode = [&](const auto& node) {
+        using NodeT = std::remove_cvref_t<decltype(node)>;
+        constexpr Int32 dim = Int32(NodeT::ChildNodeType::DIM);
+        tree::forEachTile(node, [&](const auto& tile) {
+            visit(CoordBBox::createCube(tile.origin, dim), tile.value, tile.active);
+        });
     };
+    const NodeLists<const TreeT> lists(tree, 1);
     [&]<Index... L>(std::integer_sequence<Index, L...>) {
-        (internal(std::integral_constant<Index, L + 1>{}), ...);
+        (lists.template foreach<L + 1>(visitNode, false), ...);
     }
     (std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
-    const TopT& top = tree.topNode();
-    using ChildT = typename TopT::ChildNodeType;
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            const auto& e = top.entry(c);
-            if (!e.child)
-                visit(CoordBBox::createCube(top.key(c), Int32(ChildT::DIM)), e.tile, e.active);
-        }
-    } else {
-        for (Index n = 0; n < TopT::NUM_VALUES; ++n) {
-            if (!top.getChildMask().isOn(n)) {
-                visit(CoordBBox::createCube(top.offsetToGlobalCoord(n), Int32(ChildT::DIM)),
-                      top.getTileValue(n), top.getValueMask().isOn(n));
-            }
-        }
-    }
+    visitNode(tree.topNode());
 }
 
 /// A dense copy of the values and active states of a box of a tree, read by the samplers as

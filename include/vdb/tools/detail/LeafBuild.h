@@ -11,6 +11,7 @@
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/tools/LevelSetSphere.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
 
@@ -20,25 +21,6 @@
 #include <vector>
 
 namespace vdb::tools::detail {
-
-/// Links `leaf` below the internal node `node`, creating the internal nodes on the way from the
-/// tiles they replace. @pre `node` contains the leaf's origin and holds no leaf there
-template <typename NodeT, typename LeafT>
-void linkLeafBelow(NodeT& node, std::unique_ptr<LeafT>& leaf) {
-    using ChildT = typename NodeT::ChildNodeType;
-    const Coord ijk = leaf->origin();
-    const Index n = NodeT::coordToOffset(ijk);
-    if constexpr (ChildT::LEVEL == 0) {
-        node.setChild(n, leaf.release());
-    } else {
-        ChildT* child = node.getChild(n);
-        if (!child) {
-            child = new ChildT(ijk, node.getTileValue(n), node.isTileOn(n));
-            node.setChild(n, child);
-        }
-        linkLeafBelow(*child, leaf);
-    }
-}
 
 /// Takes ownership of the non-null leaves of `leaves` and links each into `tree`, creating the
 /// internal nodes above it from the tiles (or background) they replace.
@@ -72,14 +54,8 @@ void linkLeaves(TreeT& tree, std::vector<std::unique_ptr<typename TreeT::LeafNod
             if (n > 0 && k == key(order[n - 1]))
                 continue;
             TreeT::checkDomain(k);
-            const auto* e = top.findEntry(k);
-            ChildT* child = e ? e->child : nullptr;
-            if (!child) {
-                child = new ChildT(k, e ? e->tile : top.background(), e ? e->active : false);
-                top.setChild(child);
-            }
             groupStart.push_back(n);
-            children.push_back(child);
+            children.push_back(&tree::touchChild(top, k));
         }
         groupStart.push_back(order.size());
         // Each group fills its own branch.
@@ -87,7 +63,7 @@ void linkLeaves(TreeT& tree, std::vector<std::unique_ptr<typename TreeT::LeafNod
             children.size(),
             [&](size_t g) {
                 for (size_t n = groupStart[g]; n < groupStart[g + 1]; ++n)
-                    linkLeafBelow(*children[g], leaves[order[n]]);
+                    tree::addLeaf(*children[g], std::move(leaves[order[n]]));
             },
             threaded, 1);
     }

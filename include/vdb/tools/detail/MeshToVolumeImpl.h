@@ -18,6 +18,7 @@
 #include <vdb/tools/detail/BlockRaster.h>
 #include <vdb/tools/detail/MeshTopology.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/util/Parallel.h>
 
@@ -1122,29 +1123,16 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
     const auto signTiles = [&](auto& node) {
         using NodeT = std::remove_cvref_t<decltype(node)>;
         WindingNumberTree::Local local;
-        for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
-            if (!node.getChildMask().isOn(n) && !node.getValueMask().isOn(n)) {
-                node.setTileValueOnly(n, tileValue(node.offsetToGlobalCoord(n),
-                                                   Int32(NodeT::ChildNodeType::DIM), local));
-            }
-        }
+        tree::forEachTile<tree::TileFilter::Inactive>(node, [&](auto& tile) {
+            tile.value = tileValue(tile.origin, Int32(NodeT::ChildNodeType::DIM), local);
+        });
     };
     using TopT = typename TreeT::TopNodeType;
     {
         const NodeLists<TreeT> lists(tree, 1);
         floodFillLevels<1, TopT::LEVEL>(lists, signTiles, threaded);
     }
-    TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        WindingNumberTree::Local local;
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            auto& entry = top.entry(c);
-            if (!entry.child && !entry.active)
-                entry.tile = tileValue(top.key(c), Int32(TopT::ChildNodeType::DIM), local);
-        }
-    } else {
-        signTiles(top);
-    }
+    signTiles(tree.topNode());
 }
 
 }  // namespace vdb::tools::detail

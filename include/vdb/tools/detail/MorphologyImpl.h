@@ -15,6 +15,7 @@
 
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/BitMask.h>
@@ -25,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <type_traits>
 #include <unordered_map>
@@ -547,31 +549,16 @@ struct TreeTileOps {
     template <typename NodeT>
     static void collectIn(const NodeT& node, std::vector<TileRef>& tiles) {
         using ChildT = typename NodeT::ChildNodeType;
-        for (Index n : node.getValueMask().onBits())
-            tiles.push_back({node.offsetToGlobalCoord(n), Int32(ChildT::DIM), NodeT::LEVEL});
-        if constexpr (ChildT::LEVEL > 0) {
-            for (Index n : node.getChildMask().onBits())
-                collectIn(*node.getChild(n), tiles);
-        }
+        tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto& tile) {
+            tiles.push_back({tile.origin, Int32(ChildT::DIM), NodeT::LEVEL});
+        });
+        if constexpr (ChildT::LEVEL > 0)
+            tree::forEachChild(node, [&](const ChildT& child) { collectIn(child, tiles); });
     }
     /// Every active tile of the tree, sorted by level and origin.
     static std::vector<TileRef> activeTiles(const TreeT& tree) {
         std::vector<TileRef> tiles;
-        const TopT& top = tree.topNode();
-        if constexpr (TreeT::BOUNDED) {
-            collectIn(top, tiles);
-        } else {
-            using ChildT = typename TopT::ChildNodeType;
-            for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-                const auto& e = top.entry(c);
-                if (e.child) {
-                    if constexpr (ChildT::LEVEL > 0)
-                        collectIn(*e.child, tiles);
-                } else if (e.active) {
-                    tiles.push_back({top.key(c), Int32(ChildT::DIM), TopT::LEVEL});
-                }
-            }
-        }
+        collectIn(tree.topNode(), tiles);
         std::sort(tiles.begin(), tiles.end());
         return tiles;
     }
@@ -579,86 +566,49 @@ struct TreeTileOps {
     template <typename NodeT>
     static bool hasActiveTilesIn(const NodeT& node) {
         using ChildT = typename NodeT::ChildNodeType;
-        if (!node.getValueMask().isOff())
-            return true;
+        bool any = false;
+        tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto&) { any = true; });
         if constexpr (ChildT::LEVEL > 0) {
-            for (Index n : node.getChildMask().onBits())
-                if (hasActiveTilesIn(*node.getChild(n)))
-                    return true;
+            tree::forEachChild(node,
+                               [&](const ChildT& child) { any = any || hasActiveTilesIn(child); });
         }
-        return false;
+        return any;
     }
-    static bool hasActiveTiles(const TreeT& tree) {
-        const TopT& top = tree.topNode();
-        if constexpr (TreeT::BOUNDED) {
-            return hasActiveTilesIn(top);
-        } else {
-            using ChildT = typename TopT::ChildNodeType;
-            for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-                const auto& e = top.entry(c);
-                if (e.child) {
-                    if constexpr (ChildT::LEVEL > 0) {
-                        if (hasActiveTilesIn(*e.child))
-                            return true;
-                    }
-                } else if (e.active) {
-                    return true;
-                }
-            }
-            return false;
-        }
-    }
+    static bool hasActiveTiles(const TreeT& tree) { return hasActiveTilesIn(tree.topNode()); }
 
-    /// The children of the top node (owned by it), in table order.
-    template <typename TopNodeT>
-    static std::vector<typename TopNodeT::ChildNodeType*> topChildren(TopNodeT& top) {
-        std::vector<typename TopNodeT::ChildNodeType*> children;
-        if constexpr (TreeT::BOUNDED) {
-            for (Index n : top.getChildMask().onBits())
-                children.push_back(top.getChild(n));
-        } else {
-            for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-                if (auto* child = top.entry(c).child)
-                    children.push_back(child);
-            }
-        }
+    /// The children of `node` (owned by it), in table order.
+    template <typename NodeT>
+    static std::vector<typename NodeT::ChildNodeType*> childrenOf(NodeT& node) {
+        std::vector<typename NodeT::ChildNodeType*> children;
+        children.reserve(tree::childCount(node));
+        tree::forEachChild(node, [&](auto& child) { children.push_back(&child); });
         return children;
     }
 
+    /// Splits each active tile of `node` into a child of the tile's value, all active.
+    template <typename NodeT>
+    static void splitActiveTiles(NodeT& node) {
+        std::vector<Coord> origins;
+        tree::forEachTile<tree::TileFilter::Active>(
+            node, [&](const auto& tile) { origins.push_back(tile.origin); });
+        for (const Coord& origin : origins)
+            tree::touchChild(node, origin);
+    }
     template <typename NodeT>
     static void voxelizeIn(NodeT& node) {
         using ChildT = typename NodeT::ChildNodeType;
-        const auto tiles = node.getValueMask();
-        for (Index n : tiles.onBits()) {
-            node.setChild(n, new ChildT(node.offsetToGlobalCoord(n), node.getTileValue(n), true));
-        }
-        if constexpr (ChildT::LEVEL > 0) {
-            for (Index n : node.getChildMask().onBits())
-                voxelizeIn(*node.getChild(n));
-        }
+        splitActiveTiles(node);
+        if constexpr (ChildT::LEVEL > 0)
+            tree::forEachChild(node, [](ChildT& child) { voxelizeIn(child); });
     }
     /// Replaces every active tile by nodes down to dense leaves of the tile's value.
     static void voxelizeActiveTiles(TreeT& tree, bool threaded) {
         TopT& top = tree.topNode();
         using ChildT = typename TopT::ChildNodeType;
         // The top's own tiles first, serially; then each top-level branch in its own task.
-        if constexpr (TreeT::BOUNDED) {
-            const auto tiles = top.getValueMask();
-            for (Index n : tiles.onBits()) {
-                top.setChild(n, new ChildT(top.offsetToGlobalCoord(n), top.getTileValue(n), true));
-            }
-        } else {
-            std::vector<std::pair<Coord, ValueT>> tiles;
-            for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-                const auto& e = top.entry(c);
-                if (!e.child && e.active)
-                    tiles.emplace_back(top.key(c), e.tile);
-            }
-            for (const auto& [key, value] : tiles)
-                top.setChild(new ChildT(key, value, true));
-        }
+        splitActiveTiles(top);
         if constexpr (ChildT::LEVEL > 0) {
-            const auto children = topChildren(top);
+            const auto children = childrenOf(top);
             util::parallelFor(
                 children.size(), [&](size_t i) { voxelizeIn(*children[i]); }, threaded, 1);
         }
@@ -689,7 +639,7 @@ struct TreeTileOps {
         TopT& top = tree.topNode();
         using ChildT = typename TopT::ChildNodeType;
         const ValueT background = tree.background();
-        const auto children = topChildren(top);
+        const auto children = childrenOf(top);
         std::vector<char> active(children.size());
         util::parallelFor(
             children.size(),
@@ -702,14 +652,8 @@ struct TreeTileOps {
             },
             threaded, 1);
         for (size_t i = 0; i < children.size(); ++i) {
-            if (active[i])
-                continue;
-            const Coord key = children[i]->origin();
-            if constexpr (TreeT::BOUNDED) {
-                top.setTile(top.coordToOffset(key), background, false);
-            } else {
-                delete top.stealChild(key);
-            }
+            if (!active[i])
+                tree::clearRegion(top, children[i]->origin(), background);
         }
         tree.clearAllAccessors();
     }
@@ -779,7 +723,7 @@ private:
         bool allOff(size_t t) const;
         /// A node replacing tile `t` of `value`: active where the voxels stayed on, pruned.
         template <typename ChildT>
-        ChildT* build(size_t t, const ValueT& value) const;
+        std::unique_ptr<ChildT> build(size_t t, const ValueT& value) const;
 
     private:
         const std::vector<TileRef>& mTiles;
@@ -1029,8 +973,8 @@ bool Morphology<TreeT>::TileChanges::allOff(size_t t) const {
 
 template <typename TreeT>
 template <typename ChildT>
-ChildT* Morphology<TreeT>::TileChanges::build(size_t t, const ValueT& value) const {
-    auto* child = new ChildT(mTiles[t].origin, value, true);
+std::unique_ptr<ChildT> Morphology<TreeT>::TileChanges::build(size_t t, const ValueT& value) const {
+    auto child = std::make_unique<ChildT>(mTiles[t].origin, value, true);
     for (size_t p = mFirst[t]; p < mFirst[t + 1]; ++p) {
         const Mask& m = mSet.mask(mFirstProxy + p);
         if (m.isOn())
@@ -1054,63 +998,34 @@ template <typename TreeT>
 template <typename NodeT>
 void Morphology<TreeT>::changeTilesIn(NodeT& node, const TileChanges& changes) {
     using ChildT = typename NodeT::ChildNodeType;
-    const auto tiles = node.getValueMask();
-    const auto children = node.getChildMask();
-    for (Index n : tiles.onBits()) {
-        const size_t t = changes.find(NodeT::LEVEL, node.offsetToGlobalCoord(n));
-        if (t == TileChanges::NOT_FOUND || !changes.changed(t))
-            continue;
-        const ValueT value = node.getTileValue(n);
-        if (changes.allOff(t)) {
-            node.setTile(n, Tiles::offValue(value), false);
+    const auto children = Tiles::childrenOf(node);  // before tiles become children
+    struct Change {
+        Coord origin;
+        ValueT value;
+        size_t t;
+    };
+    std::vector<Change> todo;
+    tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto& tile) {
+        const size_t t = changes.find(NodeT::LEVEL, tile.origin);
+        if (t != TileChanges::NOT_FOUND && changes.changed(t))
+            todo.push_back({tile.origin, tile.value, t});
+    });
+    for (const Change& c : todo) {
+        if (changes.allOff(c.t)) {
+            tree::setTile(node, c.origin, Tiles::offValue(c.value), false);
         } else {
-            node.setChild(n, changes.template build<ChildT>(t, value));
+            tree::setChild(node, changes.template build<ChildT>(c.t, c.value));
         }
     }
     if constexpr (ChildT::LEVEL > 0) {
-        for (Index n : children.onBits())
-            changeTilesIn(*node.getChild(n), changes);
+        for (ChildT* child : children)
+            changeTilesIn(*child, changes);
     }
 }
 
 template <typename TreeT>
 void Morphology<TreeT>::changeTiles(TreeT& tree, const TileChanges& changes) {
-    using TopT = typename TreeT::TopNodeType;
-    using ChildT = typename TopT::ChildNodeType;
-    TopT& top = tree.topNode();
-    if constexpr (TreeT::BOUNDED) {
-        changeTilesIn(top, changes);
-    } else {
-        // Read the table first: replacing entries may rehash it.
-        struct Entry {
-            Coord key;
-            ChildT* child;
-            ValueT tile;
-            bool active;
-        };
-        std::vector<Entry> entries;
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            const auto& e = top.entry(c);
-            entries.push_back({top.key(c), e.child, e.tile, e.active});
-        }
-        for (const Entry& e : entries) {
-            if (e.child) {
-                if constexpr (ChildT::LEVEL > 0)
-                    changeTilesIn(*e.child, changes);
-                continue;
-            }
-            if (!e.active)
-                continue;
-            const size_t t = changes.find(TopT::LEVEL, e.key);
-            if (t == TileChanges::NOT_FOUND || !changes.changed(t))
-                continue;
-            if (changes.allOff(t)) {
-                top.setTile(e.key, Tiles::offValue(e.tile), false);
-            } else {
-                top.setChild(changes.template build<ChildT>(t, e.tile));
-            }
-        }
-    }
+    changeTilesIn(tree.topNode(), changes);
 }
 
 }  // namespace vdb::tools::detail

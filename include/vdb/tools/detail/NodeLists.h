@@ -8,6 +8,7 @@
 #pragma once
 
 #include <vdb/Types.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/Tree.h>
@@ -77,17 +78,8 @@ private:
         auto& list = std::get<L>(mLists);
         if constexpr (L + 1 == TOP) {
             auto& top = tree.topNode();
-            if constexpr (tree::IS_ROOT_NODE<TopT>) {
-                list.reserve(top.entryCount());
-                for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-                    if (auto* child = top.entry(c).child)
-                        list.push_back(child);
-                }
-            } else {
-                list.reserve(top.getChildMask().countOn());
-                for (Index n : top.getChildMask().onBits())
-                    list.push_back(top.getChild(n));
-            }
+            list.reserve(tree::childCount(top));
+            tree::forEachChild(top, [&list](auto& child) { list.push_back(&child); });
         } else {
             size_t count = 0;
             for (const auto* parent : std::get<L + 1>(mLists))
