@@ -69,7 +69,9 @@ std::string vecText(const std::vector<double>& v) {
     for (double x : v) {
         char buf[32];
         std::snprintf(buf, sizeof buf, "%g", x);
-        s += (s.empty() ? "" : ",") + std::string(buf);
+        if (!s.empty())
+            s += ',';
+        s += buf;
     }
     return s;
 }
