@@ -94,6 +94,11 @@ struct VdbMap543 {
 };
 
 // OpenVDB's RootNode keeps its table in a std::map: [Map,5,4,3] in the paper's notation.
+// The name under which the library-independent floor is registered.
+struct Floor {
+    static constexpr const char* kName = "Floor";
+};
+
 struct OpenVdb {
     static constexpr const char* kName = "OpenVdb";
     static constexpr const char* kConfig = "[Map,5,4,3]";
@@ -346,6 +351,26 @@ void BM_LeafIteration(benchmark::State& state) {
     setOps(state, int64_t(visited));
 }
 
+// The floor of the two iterations: the same active values, already gathered into one array
+// in the tree's iteration order, summed the same way. Registered once, as library "Floor".
+void BM_ArraySum(benchmark::State& state) {
+    static const std::vector<float> values = [] {
+        const auto& shared = sharedTree<Vdb>();
+        std::vector<float> out;
+        out.reserve(inputs().band.size());
+        for (auto it = shared.tree->cbeginValueOn(); it; ++it)
+            out.push_back(*it);
+        return out;
+    }();
+    for (auto _ : state) {
+        double sum = 0;
+        for (const float v : values)
+            sum += v;
+        benchmark::DoNotOptimize(sum);
+    }
+    setOps(state, int64_t(values.size()));
+}
+
 template <typename Lib, bool Cached>
 void insertRandom(benchmark::State& state) {
     using TreeT = typename Lib::TreeType;
@@ -451,6 +476,7 @@ void registerBenchmarks() {
         using Lib = typename decltype(lib)::type;
         add<Lib>("BM_LeafIteration", BM_LeafIteration<Lib>)->MinTime(0.2);
     });
+    add<Floor>("BM_ArraySum", BM_ArraySum)->MinTime(0.2);
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
         add<Lib>("BM_RandomInsert", BM_RandomInsert<Lib>)->Iterations(1);
@@ -694,6 +720,26 @@ public:
             MarkdownRow header{"Operation"};
             header.insert(header.end(), libs.begin(), libs.end());
             md.table(header, otherRows);
+            const ByLib* floor = timesOf("BM_ArraySum");
+            const auto it = floor ? floor->find(Floor::kName) : ByLib::const_iterator{};
+            if (floor && it != floor->end() && std::isfinite(nsPerOp(it->second))) {
+                const double ns = nsPerOp(it->second);
+                std::string line =
+                    "Floor of the two iterations: the same active values "
+                    "gathered into one array and summed the same way (into a "
+                    "double, in order) take " +
+                    vdb::bench::fmt(ns, 2) + " ns per value";
+                const Figures f = figures(timesOf("BM_ValueIteration"), nsPerOp);
+                const Figures g = figures(timesOf("BM_LeafIteration"), nsPerOp);
+                for (size_t i = 0; i < libs.size(); ++i) {
+                    if (libs[i] == std::string(Vdb::kName) && std::isfinite(f[i]) &&
+                        std::isfinite(g[i]))
+                        line += "; Vdb's value iterator is " + vdb::bench::fmt(f[i] / ns, 2) +
+                                "x that and its leaves + value mask " +
+                                vdb::bench::fmt(g[i] / ns, 2) + "x";
+                }
+                md.paragraph(line + ".");
+            }
         }
 
         // The overview names only what ran (a --benchmark_filter run leaves some out).
