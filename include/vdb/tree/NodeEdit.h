@@ -72,15 +72,15 @@ void forEachTile(NodeT& node, const FuncT& f) {
             if constexpr (WRITE)
                 node.setTile(n, tile.value, tile.active);
         };
+        // The masks are read in place, not copied (a bounded top's masks can be 128 MiB each):
+        // `f` sees only its own tile, so the write-back changes only the bit being visited.
         if constexpr (Filter == TileFilter::Active) {
-            // The value mask is copied: f may switch tiles off.
-            const auto on = node.getValueMask();
-            for (Index n : on.onBits())
+            for (Index n : node.getValueMask().onBits())
                 visit(n);
         } else {
             // A mask word at a time, so that a node of children costs a word test each.
-            const auto children = node.getChildMask();
-            const auto on = node.getValueMask();
+            const auto& children = node.getChildMask();
+            const auto& on = node.getValueMask();
             for (Index w = 0; w < children.WORD_COUNT; ++w) {
                 uint64_t bits = ~children.getWord(w);
                 if constexpr (Filter == TileFilter::Inactive)
