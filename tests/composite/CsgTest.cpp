@@ -252,6 +252,24 @@ template <typename TreeT>
     }
 }
 
+/// The Copy form of `op` leaves `a` and `b` as they were and returns exactly what the in-place
+/// form (with pruning) leaves in a copy of `a`.
+template <typename TreeT>
+::testing::AssertionResult copyEqualsInPlace(Op op, const TreeT& a, const TreeT& b) {
+    const TreeT a0(a), b0(b);
+    for (bool threaded : {true, false}) {
+        const auto copy = applyCopy(op, a, b, threaded);
+        if (!identical(a, a0) || !identical(b, b0))
+            return ::testing::AssertionFailure() << opName(op) << " copy changed an input";
+        TreeT x(a), y(b);
+        applyInPlace(op, x, y);
+        auto same = identical(*copy, x);
+        if (!same)
+            return same << " (" << opName(op) << (threaded ? ", threaded" : "") << ")";
+    }
+    return ::testing::AssertionSuccess();
+}
+
 // ---- The scene
 
 struct Scene {
@@ -556,6 +574,11 @@ TEST(CsgTiles, RootTilesDecideWholeRegions) {
             EXPECT_EQ(sx, expected.second) << opName(op) << " at " << ijk;
         }
     }
+    // The Copy forms never copy the branches the root tiles decide, and give the same trees.
+    for (Op op : {Op::Union, Op::Intersection, Op::Difference}) {
+        EXPECT_TRUE(copyEqualsInPlace(op, a, b));
+        EXPECT_TRUE(copyEqualsInPlace(op, b, a));
+    }
     // Union: b's sphere inside a's tile is dropped, a's sphere inside b's tile too; only b's
     // far sphere is left, moved over whole.
     TreeT u(a), v(b);
@@ -601,6 +624,10 @@ TEST(CsgTiles, WinningTilesBecomePlusMinusBackgroundAndBackgroundRootTilesGo) {
         const auto& e = x.root().entry(c);
         EXPECT_TRUE(e.child || e.tile == -bg) << x.root().key(c);
     }
+    for (Op op : {Op::Union, Op::Intersection, Op::Difference}) {
+        EXPECT_TRUE(copyEqualsInPlace(op, a, b));
+        EXPECT_TRUE(copyEqualsInPlace(op, b, a));
+    }
 }
 
 TEST(CsgBackground, MovedBranchesTakeTheBackgroundOfA) {
@@ -631,6 +658,11 @@ TEST(CsgBackground, MovedBranchesTakeTheBackgroundOfA) {
         EXPECT_TRUE(x.isValueOn(Coord(2, 1, 4)));
         EXPECT_EQ(x.getValue(Coord(2, 1, 9)), -3.0f);
         EXPECT_FALSE(x.isValueOn(Coord(2, 1, 9)));
+    }
+    // The Copy forms fix the values of the branches they copy over from b the same way.
+    for (Op op : {Op::Union, Op::Intersection, Op::Difference}) {
+        EXPECT_TRUE(copyEqualsInPlace(op, a, b));
+        EXPECT_TRUE(copyEqualsInPlace(op, b, a));
     }
 }
 

@@ -14,10 +14,13 @@
 ///
 /// The in-place forms leave the result in `a` and `b` empty: b's branches are stolen, never
 /// copied. The Copy forms leave both inputs intact and return a new grid or tree equal to what
-/// the in-place form (with pruning) would leave in `a`; b's branches are then deep-copied.
-/// (OpenVDB's csg*Copy builds its result another way, from the leaves and a signed flood fill,
-/// so its tiles and inactive values can differ from its in-place result; ours do not.)
-/// OpenVDB's optional pruneCancelledTiles argument is not offered; `threaded` is ours.
+/// the in-place form (with pruning) would leave in `a`. They copy only what the result keeps:
+/// a's branches that a tile of b decides (and, for an intersection, a's root entries where b
+/// has none) are never copied, nor b's branches that the merge drops, and a leaf present in
+/// both is copied from a once, then combined with b's. (OpenVDB's csg*Copy builds its result
+/// another way, from the leaves and a signed flood fill, so its tiles and inactive values can
+/// differ from its in-place result; ours do not.) OpenVDB's optional pruneCancelledTiles argument
+/// is not offered; `threaded` is ours.
 ///
 /// Backgrounds: each input's background must be positive, else ValueError is thrown. When they
 /// differ, the result keeps a's background, and a branch moved over from b has its inactive
@@ -25,7 +28,8 @@
 ///
 /// Cost: one serial walk over the internal nodes where the trees overlap, then the overlapping
 /// leaves (and, for a difference, the negated moved leaves) in parallel, then
-/// pruneLevelSet(). Results do not depend on the thread count.
+/// pruneLevelSet(). The Copy forms first copy a's internal nodes in one serial walk, and every
+/// copied leaf in parallel. Results do not depend on the thread count.
 ///
 /// @code
 /// vdb::tools::csgUnion(*sphereA, *sphereB);                        // A = A u B, B emptied
@@ -166,8 +170,13 @@ template <typename TreeT>
 struct CsgRunner {
     /// Merges `b` into `a`, clears `b`, then prunes `a` if asked.
     static void inPlace(CsgKind kind, TreeT& a, TreeT& b, bool prune, bool threaded);
-    /// Merges a copy of `b`'s branches into `result` (a copy of A), then prunes it.
-    static void intoCopy(CsgKind kind, TreeT& result, const TreeT& b, bool threaded);
+    /// The result of merging `b` into `a`, built from the nodes of both (only what the result
+    /// keeps is copied), then pruned; `a` and `b` are left as they are.
+    static std::unique_ptr<TreeT> copy(CsgKind kind, const TreeT& a, const TreeT& b, bool threaded);
+
+private:
+    template <CsgKind Kind>
+    static std::unique_ptr<TreeT> copyAs(const TreeT& a, const TreeT& b, bool threaded);
 };
 
 constexpr const char* csgName(CsgKind kind) {
@@ -199,38 +208,43 @@ void CsgRunner<TreeT>::inPlace(CsgKind kind, TreeT& a, TreeT& b, bool prune, boo
 }
 
 template <typename TreeT>
-void CsgRunner<TreeT>::intoCopy(CsgKind kind, TreeT& result, const TreeT& b, bool threaded) {
-    validateLevelSetBackground(result.background(), csgName(kind), "A");
+template <CsgKind Kind>
+std::unique_ptr<TreeT> CsgRunner<TreeT>::copyAs(const TreeT& a, const TreeT& b, bool threaded) {
+    auto result = std::make_unique<TreeT>(a.background());
+    CsgMerge<TreeT, Kind, /*Steal=*/false> merge(*result, b);
+    merge.startFrom(a, threaded);
+    merge.run(threaded);
+    tools::pruneLevelSet(*result, threaded);
+    return result;
+}
+
+template <typename TreeT>
+std::unique_ptr<TreeT> CsgRunner<TreeT>::copy(CsgKind kind, const TreeT& a, const TreeT& b,
+                                              bool threaded) {
+    validateLevelSetBackground(a.background(), csgName(kind), "A");
     validateLevelSetBackground(b.background(), csgName(kind), "B");
     switch (kind) {
         case CsgKind::Union:
-            CsgMerge<TreeT, CsgKind::Union, /*Steal=*/false>(result, b).run(threaded);
-            break;
+            return copyAs<CsgKind::Union>(a, b, threaded);
         case CsgKind::Intersection:
-            CsgMerge<TreeT, CsgKind::Intersection, false>(result, b).run(threaded);
-            break;
+            return copyAs<CsgKind::Intersection>(a, b, threaded);
         case CsgKind::Difference:
-            CsgMerge<TreeT, CsgKind::Difference, false>(result, b).run(threaded);
             break;
     }
-    tools::pruneLevelSet(result, threaded);
+    return copyAs<CsgKind::Difference>(a, b, threaded);
 }
 
 template <typename TreeT>
 std::unique_ptr<TreeT> csgTreeCopy(CsgKind kind, const TreeT& a, const TreeT& b, bool threaded) {
-    validateLevelSetBackground(a.background(), csgName(kind), "A");
-    auto result = std::make_unique<TreeT>(a);
-    CsgRunner<TreeT>::intoCopy(kind, *result, b, threaded);
-    return result;
+    return CsgRunner<TreeT>::copy(kind, a, b, threaded);
 }
 
 template <typename TreeT>
 typename Grid<TreeT>::Ptr csgGridCopy(CsgKind kind, const Grid<TreeT>& a, const Grid<TreeT>& b,
                                       bool threaded) {
     checkMatchingTransforms(a, b, csgName(kind));
-    validateLevelSetBackground(a.background(), csgName(kind), "A");
-    typename Grid<TreeT>::Ptr result = a.deepCopy();
-    CsgRunner<TreeT>::intoCopy(kind, result->tree(), b.tree(), threaded);
+    typename Grid<TreeT>::Ptr result = a.copy();  // a's transform and metadata
+    result->setTree(CsgRunner<TreeT>::copy(kind, a.tree(), b.tree(), threaded));
     return result;
 }
 

@@ -13,6 +13,7 @@
 #include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -52,13 +53,18 @@ void validateLevelSetBackground(const ValueT& background, const char* operation,
 ///   or max(a, -b) (difference), with the active state of the input it came from; ties keep a.
 /// - At the root, tiles are normalised to +-background of `a` and background tiles dropped.
 ///
-/// Branches of b are stolen when `Steal` (b is then cleared by the caller) and deep-copied
+/// Branches of b are stolen when `Steal` (b is then cleared by the caller) and copied
 /// otherwise. Transferred branches get b's background replaced by a's in their inactive values
 /// (within OpenVDB's tolerance), then are negated for a difference.
 ///
-/// Threads: the walk over internal nodes is serial; leaf pairs and the leaves of transferred
-/// branches are processed in parallel, each by one task, so the result does not depend on the
-/// thread count.
+/// Without `Steal`, the merge can also build `a` itself from a third tree (startFrom(), for the
+/// Copy forms): a copy of that tree's nodes except the branches b's tiles will decide, which
+/// become the tile the merge leaves there, and, for an intersection, the root entries b lacks.
+/// Nothing of either input is copied that the merge would then drop.
+///
+/// Threads: the walks over internal nodes are serial; leaf pairs, the leaves of transferred
+/// branches and the leaves of copies are processed in parallel, each by one task, so the
+/// result does not depend on the thread count.
 template <typename TreeT, CsgKind Kind, bool Steal>
 class CsgMerge {
 public:
@@ -80,6 +86,18 @@ public:
           mBackgroundB(b.background()),
           mMovedNeedFix(DIFFERENCE || !(a.background() == b.background())) {}
 
+    /// Makes `a`, which must be empty and have `start`'s background, the copy of `start` that
+    /// merging b into it gives the same result as merging b into `start` itself.
+    void startFrom(const TreeT& start, bool threaded) requires(!Steal) {
+        if constexpr (TreeT::BOUNDED) {
+            copyStartNode(mA.topNode(), start.topNode(), &mB.topNode());
+        } else {
+            copyStartRoot(mA.root(), start.root(), mB.root());
+        }
+        linkLeafCopies(threaded);  // the merge walk looks at these leaves
+        mStartCombined = true;
+    }
+
     void run(bool threaded) {
         if constexpr (TreeT::BOUNDED) {
             mergeNode(mA.topNode(), static_cast<OtherTopT&>(mB.topNode()));
@@ -88,7 +106,9 @@ public:
         } else {
             mergeRoot(mA.root(), static_cast<OtherTopT&>(mB.root()));
         }
-        // The voxel work: overlapping leaves, then the leaves of transferred branches.
+        // The voxel work: copies of b's leaves, overlapping leaves, then the leaves of
+        // transferred branches.
+        linkLeafCopies(threaded);
         util::parallelFor(
             mLeafPairs.size(),
             [this](size_t i) { combineLeaves(*mLeafPairs[i].first, *mLeafPairs[i].second); },
@@ -145,34 +165,190 @@ private:
             values[k] = movedValue(values[k], mask.isOn(k));
     }
 
-    /// Takes the child at `n` out of b (or copies it) and prepares it for a.
-    template <typename BNodeT>
-    auto* takeChild(BNodeT& bNode, Index n) {
-        using ChildT = typename std::remove_const_t<BNodeT>::ChildNodeType;
-        std::unique_ptr<ChildT> child;
+    /// Moves the child at `n` of b into entry `n` of a: stolen, or copied (a leaf is copied
+    /// after the walk, by linkLeafCopies(); entry `n` keeps its tile until then and the walk
+    /// does not look at it again).
+    template <typename NodeT, typename BNodeT>
+    void moveChild(NodeT& a, Index n, BNodeT& b) {
         if constexpr (Steal) {
-            child.reset(bNode.stealChild(n, mBackgroundB, false));
+            std::unique_ptr<typename NodeT::ChildNodeType> child(
+                b.stealChild(n, mBackgroundB, false));
+            prepareMoved(*child);
+            a.setChild(n, child.release());
+        } else if constexpr (NodeT::LEVEL == 1) {
+            mLeafCopies.push_back({&a, n, b.getChild(n), /*moved=*/true});
         } else {
-            child = std::make_unique<ChildT>(*bNode.getChild(n));
+            a.setChild(n, copyBranch(*b.getChild(n), /*moved=*/true).release());
         }
-        prepareMoved(*child);
-        return child.release();
     }
 
     static OtherTopChildT& otherChild(OtherTopT& bRoot, const Coord& key) {
         return *bRoot.findEntry(key)->child;
     }
 
-    auto* takeRootChild(OtherTopT& bRoot, const Coord& key) {
+    /// Moves b's root child at `key` into a (stolen or copied, as moveChild()).
+    void moveRootChild(TopT& a, OtherTopT& bRoot, const Coord& key) {
         using ChildT = typename TopT::ChildNodeType;
         std::unique_ptr<ChildT> child;
         if constexpr (Steal) {
             child.reset(bRoot.stealChild(key));
+            prepareMoved(*child);
         } else {
-            child = std::make_unique<ChildT>(*bRoot.findEntry(key)->child);
+            child = copyBranch(otherChild(bRoot, key), /*moved=*/true);
         }
-        prepareMoved(*child);
-        return child.release();
+        a.setChild(child.get());
+        child.release();
+    }
+
+    // ---- Copies (no Steal): internal nodes at once, leaves later in parallel
+
+    /// A leaf to copy into entry `n` of `parent`; `moved` copies are prepared as moved values,
+    /// others combined with b's leaf `other` where there is one.
+    struct LeafCopy {
+        tree::NodeAtLevelT<TopT, 1>* parent;
+        Index n;
+        const LeafT* source;
+        bool moved;
+        const LeafT* other = nullptr;
+    };
+
+    /// Copies the tiles of internal node `src` into `dst` (a new node of the same origin),
+    /// as moved values when `moved`. The entries of src's children are left to the caller.
+    template <typename NodeT>
+    void copyTiles(NodeT& dst, const NodeT& src, bool moved) const {
+        const bool fix = moved && mMovedNeedFix;
+        const auto copy = [&](Index n) {
+            const ValueT& v = src.getTileValue(n);
+            dst.setTileValueOnly(n, fix ? movedValue(v, src.isTileOn(n)) : v);
+        };
+        const auto& children = src.getChildMask();
+        if constexpr (NodeT::NUM_VALUES % 64 == 0) {
+            // A mask word at a time: most words of a node hold tiles only.
+            for (Index w = 0; w < NodeT::NUM_VALUES / 64; ++w) {
+                const Index base = w << 6;
+                uint64_t tiles = ~children.getWord(w);
+                if (tiles == ~uint64_t(0) && !fix) {
+                    for (Index i = 0; i < 64; ++i)
+                        dst.setTileValueOnly(base + i, src.getTileValue(base + i));
+                    continue;
+                }
+                for (; tiles; tiles &= tiles - 1)
+                    copy(base + Index(std::countr_zero(tiles)));
+            }
+        } else {
+            for (Index n : children.offBits())
+                copy(n);
+        }
+        dst.updateTileStates([&](Index w, uint64_t) { return src.getValueMask().getWord(w); });
+    }
+
+    /// A copy of the branch `src`, as moved values when `moved`; its leaves are copied by
+    /// linkLeafCopies() (unless `src` is itself a leaf).
+    template <typename NodeT>
+    std::unique_ptr<NodeT> copyBranch(const NodeT& src, bool moved) {
+        if constexpr (NodeT::LEVEL == 0) {
+            auto leaf = std::make_unique<NodeT>(src);
+            if (moved && mMovedNeedFix)
+                fixMovedLeaf(*leaf);
+            return leaf;
+        } else {
+            auto node = std::make_unique<NodeT>(src.origin());
+            copyTiles(*node, src, moved);
+            for (Index n : src.getChildMask().onBits()) {
+                if constexpr (NodeT::LEVEL == 1) {
+                    mLeafCopies.push_back({node.get(), n, src.getChild(n), moved});
+                } else {
+                    node->setChild(n, copyBranch(*src.getChild(n), moved).release());
+                }
+            }
+            return node;
+        }
+    }
+
+    /// Whether a tile of b of value `bTile` decides the whole region over a child of a, and
+    /// the value the merge then leaves there (with b's tile's state).
+    static bool decides(const ValueT& bTile) {
+        if constexpr (DIFFERENCE) {
+            return bTile < ValueT(0);
+        } else {
+            return UNION ? bTile < ValueT(0) : bTile > ValueT(0);
+        }
+    }
+    ValueT decidedValue() const { return DIFFERENCE ? mBackgroundA : winningBackground(); }
+
+    /// Copies internal node `start` into `dst` (a new node of the same origin), except the
+    /// children that a tile of `b` (the node of b at the same place, or null) decides.
+    template <typename NodeT>
+    void copyStartNode(NodeT& dst, const NodeT& start, const NodeT* b) {
+        using ChildT = typename NodeT::ChildNodeType;
+        copyTiles(dst, start, /*moved=*/false);
+        for (Index n : start.getChildMask().onBits()) {
+            const ChildT* bChild = b ? b->getChild(n) : nullptr;
+            if (b && !bChild && decides(b->getTileValue(n))) {
+                dst.setTile(n, decidedValue(), b->isTileOn(n));
+            } else if constexpr (NodeT::LEVEL == 1) {
+                // A leaf of b here is combined with the copy at once (the merge walk would
+                // pair the two); see mergeChildren().
+                mLeafCopies.push_back({&dst, n, start.getChild(n), /*moved=*/false, bChild});
+            } else {
+                auto child = std::make_unique<ChildT>(start.getChild(n)->origin());
+                copyStartNode(*child, *start.getChild(n), bChild);
+                dst.setChild(n, child.release());
+            }
+        }
+    }
+
+    /// copyStartNode() for root nodes: an intersection also drops the entries b lacks.
+    void copyStartRoot(TopT& dst, const TopT& start, const TopT& b) {
+        using ChildT = typename TopT::ChildNodeType;
+        for (auto c = start.cbegin(); start.valid(c); start.next(c)) {
+            const Coord key = start.key(c);
+            const auto& e = start.entry(c);
+            if (!e.child) {
+                dst.setTile(key, e.tile, e.active);
+                continue;
+            }
+            const auto* be = b.findEntry(key);
+            if (!UNION && !DIFFERENCE && !be)
+                continue;
+            if (be && !be->child && decides(be->tile)) {
+                dst.setTile(key, decidedValue(), be->active);
+                continue;
+            }
+            std::unique_ptr<ChildT> child;
+            if constexpr (ChildT::LEVEL == 0) {
+                child = std::make_unique<ChildT>(*e.child);
+                if (be && be->child)
+                    combineLeaves(*child, *be->child);
+            } else {
+                child = std::make_unique<ChildT>(e.child->origin());
+                copyStartNode(*child, *e.child, be ? be->child : nullptr);
+            }
+            dst.setChild(child.get());
+            child.release();
+        }
+    }
+
+    /// Makes the leaf copies, in parallel, then links them in the order they were listed.
+    void linkLeafCopies(bool threaded) {
+        if constexpr (!Steal && !tree::IS_ROOT_NODE<tree::NodeAtLevelT<TopT, 1>>) {
+            std::vector<std::unique_ptr<LeafT>> copies(mLeafCopies.size());
+            util::parallelFor(
+                mLeafCopies.size(),
+                [&](size_t i) {
+                    const LeafCopy& job = mLeafCopies[i];
+                    auto leaf = std::make_unique<LeafT>(*job.source);
+                    if (job.moved && mMovedNeedFix)
+                        fixMovedLeaf(*leaf);
+                    if (job.other)
+                        combineLeaves(*leaf, *job.other);
+                    copies[i] = std::move(leaf);
+                },
+                threaded, 16);
+            for (size_t i = 0; i < copies.size(); ++i)
+                mLeafCopies[i].parent->setChild(mLeafCopies[i].n, copies[i].release());
+            mLeafCopies.clear();
+        }
     }
 
     // ---- Leaves
@@ -202,7 +378,8 @@ private:
     template <typename NodeT, typename BNodeT>
     void mergeChildren(NodeT& a, BNodeT& b) {
         if constexpr (NodeT::LEVEL == 0) {
-            mLeafPairs.emplace_back(&a, &b);
+            if (!mStartCombined)  // startFrom() combined every pair of leaves already
+                mLeafPairs.emplace_back(&a, &b);
         } else {
             mergeNode(a, b);
         }
@@ -228,7 +405,7 @@ private:
             // b's children: moved negated into a's inside tiles, merged with a's children.
             tree::detail::forEachOnBit<MaskT>(bChildren, [&](Index n) {
                 if (inside(n)) {
-                    a.setChild(n, takeChild(b, n));
+                    moveChild(a, n, b);
                 } else if (a.isChild(n)) {
                     mergeChildren(*a.getChild(n), *b.getChild(n));
                 }
@@ -252,7 +429,7 @@ private:
                 if (winning(n))
                     return;
                 if (losing(n)) {
-                    a.setChild(n, takeChild(b, n));
+                    moveChild(a, n, b);
                 } else if (a.isChild(n)) {
                     mergeChildren(*a.getChild(n), *b.getChild(n));
                 }
@@ -345,9 +522,7 @@ private:
             const auto it = tiles.find(key);
             if (it != tiles.end() && it->second == WIN)
                 continue;
-            std::unique_ptr<typename TopT::ChildNodeType> child(takeRootChild(b, key));
-            a.setChild(child.get());
-            child.release();
+            moveRootChild(a, b, key);
             children.insert(key);
         }
         // Losing tiles, as -+background, where no child took their place.
@@ -391,9 +566,7 @@ private:
             if (it->second & CHILD) {
                 pairs.push_back(key);
             } else if (it->second & INSIDE_TILE) {
-                std::unique_ptr<typename TopT::ChildNodeType> child(takeRootChild(b, key));
-                a.setChild(child.get());
-                child.release();
+                moveRootChild(a, b, key);
             }
         }
         eraseBackgroundTiles(a);
@@ -408,6 +581,8 @@ private:
     const bool mMovedNeedFix;  // moved branches need background replacement or negation
     std::vector<std::pair<LeafT*, const LeafT*>> mLeafPairs;
     std::vector<LeafT*> mMovedLeaves;
+    std::vector<LeafCopy> mLeafCopies;
+    bool mStartCombined = false;
 };
 
 /// Combines tree `b` into tree `a` value by value, with the rules of OpenVDB 10's
