@@ -20,6 +20,10 @@
 //                      10^7 lookups of distinct random active voxels (memory bound)
 //   BM_ValueIteration  sum of all active values through tree.cbeginValueOn()
 //   BM_LeafIteration   the same through tree.cbeginLeaf() and each leaf's value mask
+//   BM_ArraySum, BM_LeafBytesSum, BM_LeafBytesStream ("Floor")
+//                      the floors of the two: the active values summed from one array; every
+//                      leaf value (the bytes the iterations stream) summed the same way; the
+//                      same bytes read at memory speed
 //   BM_RandomInsert / BM_RandomInsertTopDown
 //                      the whole band in random order into an empty tree, with an accessor
 //                      or with tree.setValue()
@@ -371,6 +375,53 @@ void BM_ArraySum(benchmark::State& state) {
     setOps(state, int64_t(values.size()));
 }
 
+// Every value the tree's leaves hold, active or not, in one array in leaf order: the bytes the
+// two iterations stream through (a narrow band touches nearly every cache line of its leaves).
+const std::vector<float>& leafBytes() {
+    static const std::vector<float> values = [] {
+        const auto& shared = sharedTree<Vdb>();
+        std::vector<float> out;
+        for (auto leaf = shared.tree->cbeginLeaf(); leaf; ++leaf) {
+            const auto buffer = leaf->buffer(0);
+            out.insert(out.end(), buffer.begin(), buffer.end());
+        }
+        return out;
+    }();
+    return values;
+}
+
+// Two more floors, per active voxel like the others: the leaves' value bytes summed the same way
+// as the iterations (into a double, in order), and streamed at memory speed (sixteen
+// independent float sums the compiler vectorizes: the machine's read bandwidth on these bytes).
+void BM_LeafBytesSum(benchmark::State& state) {
+    const auto& values = leafBytes();
+    for (auto _ : state) {
+        double sum = 0;
+        for (const float v : values)
+            sum += v;
+        benchmark::DoNotOptimize(sum);
+    }
+    setOps(state, int64_t(inputs().band.size()));
+}
+
+void BM_LeafBytesStream(benchmark::State& state) {
+    const auto& values = leafBytes();
+    constexpr size_t kLanes = 16;
+    for (auto _ : state) {
+        float lanes[kLanes] = {};
+        const size_t whole = values.size() / kLanes * kLanes;
+        for (size_t i = 0; i < whole; i += kLanes)
+            for (size_t k = 0; k < kLanes; ++k)
+                lanes[k] += values[i + k];
+        double sum = 0;
+        for (const float lane : lanes)
+            sum += lane;
+        benchmark::DoNotOptimize(sum);
+    }
+    setOps(state, int64_t(inputs().band.size()));
+    state.counters["bytes"] = double(values.size() * sizeof(float));
+}
+
 template <typename Lib, bool Cached>
 void insertRandom(benchmark::State& state) {
     using TreeT = typename Lib::TreeType;
@@ -477,6 +528,8 @@ void registerBenchmarks() {
         add<Lib>("BM_LeafIteration", BM_LeafIteration<Lib>)->MinTime(0.2);
     });
     add<Floor>("BM_ArraySum", BM_ArraySum)->MinTime(0.2);
+    add<Floor>("BM_LeafBytesSum", BM_LeafBytesSum)->MinTime(0.2);
+    add<Floor>("BM_LeafBytesStream", BM_LeafBytesStream)->MinTime(0.2);
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
         add<Lib>("BM_RandomInsert", BM_RandomInsert<Lib>)->Iterations(1);
@@ -720,25 +773,44 @@ public:
             MarkdownRow header{"Operation"};
             header.insert(header.end(), libs.begin(), libs.end());
             md.table(header, otherRows);
-            const ByLib* floor = timesOf("BM_ArraySum");
-            const auto it = floor ? floor->find(Floor::kName) : ByLib::const_iterator{};
-            if (floor && it != floor->end() && std::isfinite(nsPerOp(it->second))) {
+            // The floors of the two iterations, each with Vdb's two times over it.
+            const Figures f = figures(timesOf("BM_ValueIteration"), nsPerOp);
+            const Figures g = figures(timesOf("BM_LeafIteration"), nsPerOp);
+            const auto vdbColumn = std::find(libs.begin(), libs.end(), std::string(Vdb::kName));
+            const size_t v = size_t(vdbColumn - libs.begin());
+            std::vector<MarkdownRow> floorRows;
+            for (const auto& [op, what] :
+                 {std::pair{"BM_ArraySum",
+                            "the active values in one array, summed the same "
+                            "way (into a double, in order)"},
+                  std::pair{"BM_LeafBytesSum",
+                            "every value of the leaves (the bytes the "
+                            "iterations stream) in one array, summed the "
+                            "same way"},
+                  std::pair{"BM_LeafBytesStream",
+                            "the same bytes at memory speed (sixteen "
+                            "independent sums)"}}) {
+                const ByLib* floor = timesOf(op);
+                const auto it = floor ? floor->find(Floor::kName) : ByLib::const_iterator{};
+                if (!floor || it == floor->end() || !std::isfinite(nsPerOp(it->second)))
+                    continue;
                 const double ns = nsPerOp(it->second);
-                std::string line =
-                    "Floor of the two iterations: the same active values "
-                    "gathered into one array and summed the same way (into a "
-                    "double, in order) take " +
-                    vdb::bench::fmt(ns, 2) + " ns per value";
-                const Figures f = figures(timesOf("BM_ValueIteration"), nsPerOp);
-                const Figures g = figures(timesOf("BM_LeafIteration"), nsPerOp);
-                for (size_t i = 0; i < libs.size(); ++i) {
-                    if (libs[i] == std::string(Vdb::kName) && std::isfinite(f[i]) &&
-                        std::isfinite(g[i]))
-                        line += "; Vdb's value iterator is " + vdb::bench::fmt(f[i] / ns, 2) +
-                                "x that and its leaves + value mask " +
-                                vdb::bench::fmt(g[i] / ns, 2) + "x";
-                }
-                md.paragraph(line + ".");
+                MarkdownRow row{what, vdb::bench::fmt(ns, 2)};
+                const bool have = v < libs.size() && std::isfinite(f[v]) && std::isfinite(g[v]);
+                row.push_back(have ? vdb::bench::fmt(f[v] / ns, 2) : "-");
+                row.push_back(have ? vdb::bench::fmt(g[v] / ns, 2) : "-");
+                const auto bytes = it->second.counters.find("bytes");
+                if (bytes != it->second.counters.end() && it->second.cpuNs > 0)
+                    row[0] +=
+                        " (" + vdb::bench::fmt(bytes->second / it->second.cpuNs, 1) + " GB/s)";
+                floorRows.push_back(row);
+            }
+            if (!floorRows.empty()) {
+                md.paragraph(
+                    "Floors of the two iterations, CPU nanoseconds per active voxel, "
+                    "and Vdb's times over each:");
+                md.table({"Floor", "ns", "value iterator / floor", "leaves + mask / floor"},
+                         floorRows);
             }
         }
 

@@ -141,7 +141,7 @@ TYPED_TEST(BitMaskTyped, IteratorsVisitExactlyTheOracleBitsInOrder) {
     std::mt19937 rng(5);
     MaskT mask;
     Oracle oracle;
-    for (double density : {0.0, 0.01, 0.5, 1.0}) {
+    for (double density : {0.0, 0.01, 0.3, 0.5, 0.97, 1.0}) {
         randomFill(mask, oracle, density, rng);
         std::vector<Index> on, off;
         for (Index n = 0; n < MaskT::SIZE; ++n)
@@ -169,6 +169,80 @@ TYPED_TEST(BitMaskTyped, IteratorsVisitExactlyTheOracleBitsInOrder) {
             ASSERT_EQ(it.pos(), expected++);
         EXPECT_EQ(expected, MaskT::SIZE);
     }
+}
+
+/// The positions a range of bit positions visits, in order.
+template <typename RangeT>
+std::vector<Index> positions(const RangeT& range) {
+    std::vector<Index> out;
+    for (Index n : range)
+        out.push_back(n);
+    return out;
+}
+
+TYPED_TEST(BitMaskTyped, IteratorsHandleTheEdgesOfEveryWord) {
+    using MaskT = TypeParam;
+    // Only the first and last bit of each word, only the last, only the first: the iterators
+    // cross every word boundary and stop at the last bit of the mask.
+    for (const uint64_t pattern :
+         {uint64_t(1) | (uint64_t(1) << 63), uint64_t(1) << 63, uint64_t(1)}) {
+        MaskT mask;
+        std::vector<Index> on, off;
+        for (Index w = 0; w < MaskT::WORD_COUNT; ++w)
+            mask.getWord(w) = pattern;
+        for (Index n = 0; n < MaskT::SIZE; ++n)
+            (mask.isOn(n) ? on : off).push_back(n);
+        EXPECT_EQ(positions(mask.onBits()), on);
+        EXPECT_EQ(positions(mask.offBits()), off);
+        std::vector<Index> seen;
+        // An iterator made at any position goes on from there.
+        for (Index start : {Index(0), Index(63), Index(64), MaskT::SIZE - 1}) {
+            if (start >= MaskT::SIZE)
+                continue;
+            seen.clear();
+            for (typename MaskT::OnIterator it(&mask, start); it; ++it)
+                seen.push_back(it.pos());
+            std::vector<Index> expected{start};
+            for (Index n : on)
+                if (n > start)
+                    expected.push_back(n);
+            EXPECT_EQ(seen, expected) << "start " << start;
+        }
+    }
+}
+
+TYPED_TEST(BitMaskTyped, IteratorsReadEachWordOnceWhenTheyReachIt) {
+    using MaskT = TypeParam;
+    std::mt19937 rng(11);
+    MaskT mask;
+    Oracle oracle;
+    randomFill(mask, oracle, 0.5, rng);
+    // Clearing each bit as it is visited visits every bit that was on.
+    std::vector<Index> on, seen;
+    for (Index n = 0; n < MaskT::SIZE; ++n)
+        if (oracle[n])
+            on.push_back(n);
+    for (auto it = mask.beginOn(); it; ++it) {
+        seen.push_back(it.pos());
+        mask.setOff(it.pos());
+    }
+    EXPECT_EQ(seen, on);
+    EXPECT_TRUE(mask.isOff());
+    // Bits set ahead in later words are seen; in the current word they are not.
+    mask.setOn(0);
+    seen.clear();
+    for (auto it = mask.beginOn(); it; ++it) {
+        seen.push_back(it.pos());
+        if (it.pos() == 0) {
+            mask.setOn(5);
+            if (MaskT::WORD_COUNT > 1)
+                mask.setOn(64 + 7);
+        }
+    }
+    std::vector<Index> expected{0};
+    if (MaskT::WORD_COUNT > 1)
+        expected.push_back(64 + 7);
+    EXPECT_EQ(seen, expected);
 }
 
 TYPED_TEST(BitMaskTyped, WordwiseOperatorsMatchOracle) {

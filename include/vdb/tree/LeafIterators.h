@@ -19,44 +19,44 @@ namespace vdb::tree {
 /// Visits the voxels of one leaf that `Filter` selects, in offset order; `pos()` is the offset.
 /// The leaf class `LeafT` provides getValueMask(), getValue(Index), isValueOn(Index) and
 /// offsetToGlobalCoord(Index); setValue() also needs setValueOnly(Index, value).
+///
+/// The On and Off iterators step through the value mask as BitMask's iterators do: each 64-bit
+/// word is read once, when reached, so changing the current voxel's state is safe and changes
+/// to the rest of its word are not seen.
 template <typename LeafT, ValueFilter Filter, bool IsConst>
 class LeafValueIter {
+    using MaskIter = typename LeafT::MaskType::template Iterator<Filter>;
+
 public:
     using NodeT = std::conditional_t<IsConst, const LeafT, LeafT>;
 
     LeafValueIter() = default;
-    LeafValueIter(NodeT* leaf, Index pos) : mLeaf(leaf), mPos(pos) {}
+    LeafValueIter(NodeT* leaf, Index pos) : mLeaf(leaf), mBit(&leaf->getValueMask(), pos) {}
 
-    explicit operator bool() const { return mPos < LeafT::NUM_VALUES; }
-    bool operator==(std::default_sentinel_t) const { return mPos >= LeafT::NUM_VALUES; }
+    explicit operator bool() const { return bool(mBit); }
+    bool operator==(std::default_sentinel_t) const { return mBit == std::default_sentinel; }
     LeafValueIter& operator++() {
-        if constexpr (Filter == ValueFilter::On) {
-            mPos = mLeaf->getValueMask().findNextOn(mPos + 1);
-        } else if constexpr (Filter == ValueFilter::Off) {
-            mPos = mLeaf->getValueMask().findNextOff(mPos + 1);
-        } else {
-            ++mPos;
-        }
+        ++mBit;
         return *this;
     }
 
-    Index pos() const { return mPos; }
-    Coord getCoord() const { return mLeaf->offsetToGlobalCoord(mPos); }
+    Index pos() const { return mBit.pos(); }
+    Coord getCoord() const { return mLeaf->offsetToGlobalCoord(pos()); }
     /// A reference into the leaf for array leaves, a bool for bit and mask leaves.
-    decltype(auto) getValue() const { return mLeaf->getValue(mPos); }
+    decltype(auto) getValue() const { return mLeaf->getValue(pos()); }
     decltype(auto) operator*() const { return getValue(); }
-    bool isValueOn() const { return mLeaf->isValueOn(mPos); }
+    bool isValueOn() const { return mLeaf->isValueOn(pos()); }
     /// Sets the value of the current voxel, keeping its state (in a mask leaf the value is the
     /// state).
     template <typename V>
     void setValue(const V& v) const requires(!IsConst) {
-        mLeaf->setValueOnly(mPos, v);
+        mLeaf->setValueOnly(pos(), v);
     }
     NodeT& leaf() const { return *mLeaf; }
 
 private:
     NodeT* mLeaf = nullptr;
-    Index mPos = LeafT::NUM_VALUES;
+    MaskIter mBit;
 };
 
 /// The iterator types and begin functions of a leaf class `LeafT` (derived from this).

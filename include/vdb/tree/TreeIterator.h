@@ -57,6 +57,9 @@ public:
     using ValueType = typename Tree::ValueType;
     static constexpr Index TOP = TopT::LEVEL;
     static constexpr bool ROOT_TOP = IS_ROOT_NODE<TopT>;
+    // Walks over active or inactive voxels read a leaf's mask a word at a time and keep the
+    // rest of the current word, as BitMask's iterators do.
+    static constexpr bool VOXEL_BITS = Mode == WalkMode::ValueOn || Mode == WalkMode::ValueOff;
     template <Index L>
     using NodeT = NodeAtLevelT<TopT, L>;
     template <typename N, bool IsRoot = IS_ROOT_NODE<N>>
@@ -88,6 +91,15 @@ public:
     bool done() const { return mDone; }
     Index level() const { return mLevel; }
     void increment() {
+        if constexpr (VOXEL_BITS) {
+            // The next voxel in the current mask word of the leaf: no load. (mBits is zero
+            // unless the walk is at a voxel.)
+            if (mBits != 0) {
+                mPos[0] = (mPos[0] & ~Index(63)) + Index(std::countr_zero(mBits));
+                mBits &= mBits - 1;
+                return;
+            }
+        }
         if constexpr (Mode == WalkMode::Node) {
             incrementNode<0>();
         } else {
@@ -185,6 +197,10 @@ private:
             mPos[0] = p;
             if (p >= NodeT<0>::NUM_VALUES)
                 return false;
+            if constexpr (VOXEL_BITS) {
+                const uint64_t word = leaf->getValueMask().getWord(p >> 6);
+                mBits = (Mode == WalkMode::ValueOn ? word : ~word) & (~uint64_t(1) << (p & 63));
+            }
             mLevel = 0;
             return true;
         } else if constexpr (L == TOP && ROOT_TOP) {
@@ -285,6 +301,7 @@ private:
     TopPos mTopPos{};
     Index mLevel = 0;
     bool mDone = true;
+    uint64_t mBits = 0;  // VOXEL_BITS: the voxels after mPos[0] in its mask word, at a voxel
 };
 
 }  // namespace detail
@@ -295,7 +312,9 @@ private:
 ///
 /// Use: `for (auto it = tree.cbeginValueOn(); it; ++it) f(it.getCoord(), *it);`
 /// The order is depth-first by table position. Changing values with setValue() is allowed
-/// during iteration; changing the topology is not.
+/// during iteration; changing the topology is not. Active states: the current item's may
+/// change (see setActiveState()); a leaf's mask is read 64 voxels (one word) at a time, so a
+/// change to another voxel of the current word is not seen by an On or Off iterator.
 template <typename TreeT, ValueFilter Filter>
 class TreeValueIterator {
     static constexpr detail::WalkMode MODE = Filter == ValueFilter::On ? detail::WalkMode::ValueOn

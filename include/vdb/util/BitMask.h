@@ -186,23 +186,34 @@ public:
     // ---- Iterators over bit positions
     /// Visits the on bits (On), the off bits (Off) or every bit (Dense) in increasing order.
     /// `pos()` is the current bit; the iterator converts to false past the end.
+    ///
+    /// The On and Off iterators read each 64-bit word once, when they reach it, and keep the
+    /// bits still to visit in a register: a step is a count-trailing-zeros and a clear-lowest-
+    /// bit, with no load. So changing the current bit while iterating is safe, changes to later
+    /// words are seen, and changes to the rest of the current word are not.
     template <ValueFilter Filter>
     class Iterator {
     public:
         constexpr Iterator() = default;
-        constexpr Iterator(const BitMask* mask, Index pos) : mMask(mask), mPos(pos) {}
+        constexpr Iterator(const BitMask* mask, Index pos) : mMask(mask), mPos(pos) {
+            if constexpr (Filter != ValueFilter::All) {
+                if (pos < SIZE)
+                    mBits = wordAt(pos >> 6) & (~Word(1) << (pos & 63));
+            }
+        }
 
         constexpr Index pos() const { return mPos; }
         constexpr Index operator*() const { return mPos; }
         constexpr explicit operator bool() const { return mPos < SIZE; }
         constexpr bool test() const { return mPos < SIZE; }
         constexpr Iterator& operator++() {
-            if constexpr (Filter == ValueFilter::On) {
-                mPos = mMask->findNextOn(mPos + 1);
-            } else if constexpr (Filter == ValueFilter::Off) {
-                mPos = mMask->findNextOff(mPos + 1);
-            } else {
+            if constexpr (Filter == ValueFilter::All) {
                 ++mPos;
+            } else if (mBits != 0) {
+                mPos = (mPos & ~Index(63)) + Index(std::countr_zero(mBits));
+                mBits &= mBits - 1;
+            } else {
+                nextWord();
             }
             return *this;
         }
@@ -211,8 +222,24 @@ public:
         constexpr bool operator==(std::default_sentinel_t) const { return mPos >= SIZE; }
 
     private:
+        constexpr Word wordAt(Index w) const {
+            return Filter == ValueFilter::On ? mMask->mWords[w] : ~mMask->mWords[w];
+        }
+        constexpr void nextWord() {
+            for (Index w = (mPos >> 6) + 1; w < WORD_COUNT; ++w) {
+                const Word bits = wordAt(w);
+                if (bits != 0) {
+                    mPos = (w << 6) + Index(std::countr_zero(bits));
+                    mBits = bits & (bits - 1);
+                    return;
+                }
+            }
+            mPos = SIZE;
+        }
+
         const BitMask* mMask = nullptr;
         Index mPos = SIZE;
+        Word mBits = 0;  // the bits of the current word after mPos still to visit
     };
     using OnIterator = Iterator<ValueFilter::On>;
     using OffIterator = Iterator<ValueFilter::Off>;
