@@ -275,6 +275,8 @@ public:
     void clearAllAccessors() { mEpoch.fetch_add(1, std::memory_order_relaxed); }
     /// The structural-change counter that accessors compare against.
     uint64_t epoch() const { return mEpoch.load(std::memory_order_relaxed); }
+    /// The counter itself, for accessors to read without going through the tree.
+    const std::atomic<uint64_t>& epochCounter() const { return mEpoch; }
 
     /// Throws IndexError when `ijk` is outside domain().
     static void checkDomain(const Coord& ijk) {

@@ -16,6 +16,7 @@
 #include <vdb/tree/Tree.h>
 
 #include <array>
+#include <atomic>
 #include <tuple>
 #include <type_traits>
 
@@ -45,7 +46,10 @@ public:
     static constexpr bool IS_CONST = std::is_const_v<TreeT>;
     static constexpr Index TOP = TopT::LEVEL;  ///< levels 0 .. TOP-1 are cached
 
-    explicit ValueAccessor(TreeT& tree) : mTree(&tree), mEpoch(tree.epoch()) { clear(); }
+    explicit ValueAccessor(TreeT& tree)
+        : mEpochSource(&tree.epochCounter()), mTree(&tree), mEpoch(tree.epoch()) {
+        clear();
+    }
 
     TreeT& tree() const { return *mTree; }
     /// Drops every cached node.
@@ -74,7 +78,7 @@ public:
         sync();
         if (hit<0>(ijk))
             return OpT::leaf(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk), args...);
-        return getMiss<OpT>(ijk, args...);
+        return getMiss<OpT>(ijk[0], ijk[1], ijk[2], args...);
     }
 
     // ---- Writes (not on a const tree); writes outside a bounded tree's domain throw IndexError
@@ -146,7 +150,7 @@ private:
     using Nodes = typename CacheTuple<std::make_index_sequence<TOP>>::Type;
 
     void sync() const {
-        if (mTree->epoch() != mEpoch) [[unlikely]]
+        if (mEpochSource->load(std::memory_order_relaxed) != mEpoch) [[unlikely]]
             resync();
     }
     [[gnu::noinline, gnu::cold]] void resync() const {
@@ -175,11 +179,13 @@ private:
     }
 
     // The walk below the cached leaf: from the lowest cached node that holds `ijk`, else from
-    // the top. Out of line, so that the hit path above stays small where it is inlined.
+    // the top. Out of line, so that the hit path above stays small where it is inlined; the
+    // coordinates come in three registers (a Coord argument was spilled to the stack on the
+    // hit path, before the branch).
     template <typename OpT, typename... ArgsT>
     [[gnu::noinline, gnu::flatten]] AccessResult<OpT, LeafNodeType, ArgsT...> getMiss(
-        Coord ijk, ArgsT&... args) const {
-        return getFrom<1, OpT>(ijk, args...);
+        Int32 x, Int32 y, Int32 z, ArgsT&... args) const {
+        return getFrom<1, OpT>(Coord(x, y, z), args...);
     }
     template <Index L, typename OpT, typename... ArgsT>
     AccessResult<OpT, LeafNodeType, ArgsT...> getFrom(const Coord& ijk, ArgsT&... args) const {
@@ -215,6 +221,7 @@ private:
         }
     }
 
+    const std::atomic<uint64_t>* mEpochSource;  // the tree's epoch counter
     TreeT* mTree;
     mutable uint64_t mEpoch;
     mutable std::array<Coord, TOP> mKeys;
