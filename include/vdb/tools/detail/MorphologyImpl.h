@@ -229,6 +229,13 @@ public:
     MaskRegionSet() : mMasks{Mask(), Mask(true)} {}
 
     size_t size() const { return mOrigins.size(); }
+    /// Room for `n` regions without growing the arrays (growth copies them into fresh pages).
+    void reserve(size_t n) {
+        mOrigins.reserve(n);
+        mBlock.reserve(n);
+        mLocal.reserve(n);
+        mMasks.reserve(n + 2);
+    }
     const Coord& origin(size_t i) const { return mOrigins[i]; }
     const Mask& mask(size_t i) const { return mMasks[i]; }
 
@@ -787,6 +794,7 @@ void Morphology<TreeT>::dilate(TreeT& tree, int iterations, NearestNeighbors nn,
     std::vector<LeafT*> leaves;
     leaves.reserve(tree.leafCount());
     Set set;
+    set.reserve(tree.leafCount());
     for (auto it = tree.beginLeaf(); it; ++it) {
         leaves.push_back(&*it);
         set.add(it->origin(), it->getValueMask());
@@ -856,6 +864,8 @@ void Morphology<TreeT>::erode(TreeT& tree, int iterations, NearestNeighbors nn, 
     // Leaves with active voxels are the regions that can change (with the tiles' below).
     std::vector<LeafT*> regionLeaf;
     Set set;
+    set.reserve(tree.leafCount());
+    regionLeaf.reserve(tree.leafCount());
     for (auto it = tree.beginLeaf(); it; ++it) {
         LeafT& leaf = *it;
         if (leaf.isEmpty())
