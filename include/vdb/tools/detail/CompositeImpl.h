@@ -90,7 +90,7 @@ public:
     /// merging b into it gives the same result as merging b into `start` itself.
     void startFrom(const TreeT& start, bool threaded) requires(!Steal) {
         if constexpr (TreeT::BOUNDED) {
-            copyStartNode(mA.topNode(), start.topNode(), &mB.topNode());
+            copyNodeInto(mA.topNode(), start.topNode(), &mB.topNode(), /*moved=*/false);
         } else {
             copyStartRoot(mA.root(), start.root(), mB.root());
         }
@@ -253,14 +253,7 @@ private:
             return leaf;
         } else {
             auto node = std::make_unique<NodeT>(src.origin());
-            copyTiles(*node, src, moved);
-            for (Index n : src.getChildMask().onBits()) {
-                if constexpr (NodeT::LEVEL == 1) {
-                    mLeafCopies.push_back({node.get(), n, src.getChild(n), moved});
-                } else {
-                    node->setChild(n, copyBranch(*src.getChild(n), moved).release());
-                }
-            }
+            copyNodeInto(*node, src, static_cast<const NodeT*>(nullptr), moved);
             return node;
         }
     }
@@ -276,29 +269,31 @@ private:
     }
     ValueT decidedValue() const { return DIFFERENCE ? mBackgroundA : winningBackground(); }
 
-    /// Copies internal node `start` into `dst` (a new node of the same origin), except the
-    /// children that a tile of `b` (the node of b at the same place, or null) decides.
+    /// Copies internal node `src` into `dst` (a new node of the same origin), as moved values
+    /// when `moved`, except the children that a tile of `b` (the node of b at the same place,
+    /// or null) decides.
     template <typename NodeT>
-    void copyStartNode(NodeT& dst, const NodeT& start, const NodeT* b) {
+    void copyNodeInto(NodeT& dst, const NodeT& src, const NodeT* b, bool moved) {
         using ChildT = typename NodeT::ChildNodeType;
-        copyTiles(dst, start, /*moved=*/false);
-        for (Index n : start.getChildMask().onBits()) {
+        copyTiles(dst, src, moved);
+        for (Index n : src.getChildMask().onBits()) {
             const ChildT* bChild = b ? b->getChild(n) : nullptr;
             if (b && !bChild && decides(b->getTileValue(n))) {
                 dst.setTile(n, decidedValue(), b->isTileOn(n));
             } else if constexpr (NodeT::LEVEL == 1) {
                 // A leaf of b here is combined with the copy at once (the merge walk would
                 // pair the two); see mergeChildren().
-                mLeafCopies.push_back({&dst, n, start.getChild(n), /*moved=*/false, bChild});
+                mLeafCopies.push_back({&dst, n, src.getChild(n), moved, bChild});
             } else {
-                auto child = std::make_unique<ChildT>(start.getChild(n)->origin());
-                copyStartNode(*child, *start.getChild(n), bChild);
+                auto child = std::make_unique<ChildT>(src.getChild(n)->origin());
+                copyNodeInto(*child, *src.getChild(n), bChild, moved);
                 dst.setChild(n, child.release());
             }
         }
     }
 
-    /// copyStartNode() for root nodes: an intersection also drops the entries b lacks.
+    /// copyNodeInto() for the root of the start tree: an intersection also drops the entries b
+    /// lacks.
     void copyStartRoot(TopT& dst, const TopT& start, const TopT& b) {
         using ChildT = typename TopT::ChildNodeType;
         for (auto c = start.cbegin(); start.valid(c); start.next(c)) {
@@ -322,7 +317,7 @@ private:
                     combineLeaves(*child, *be->child);
             } else {
                 child = std::make_unique<ChildT>(e.child->origin());
-                copyStartNode(*child, *e.child, be ? be->child : nullptr);
+                copyNodeInto(*child, *e.child, be ? be->child : nullptr, /*moved=*/false);
             }
             dst.setChild(child.get());
             child.release();
