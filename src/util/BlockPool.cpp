@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 
 #include <vdb/util/BlockPool.h>
+#include <vdb/util/LargeArray.h>
 
 #include <sys/mman.h>
 
@@ -80,29 +81,44 @@ struct Shard {
     }
 };
 
-// A 2 MiB-aligned, 2 MiB mapping, with a request for huge pages when `huge`.
-void* mapChunk(bool huge) {
-    const std::size_t bytes = BlockPool::CHUNK_BYTES;
-    void* raw =
-        ::mmap(nullptr, 2 * bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+// A mapping of `bytes` (a multiple of CHUNK_BYTES), aligned to CHUNK_BYTES, with a request for
+// huge pages when `huge`.
+void* mapAligned(std::size_t bytes, bool huge) {
+    constexpr std::size_t align = BlockPool::CHUNK_BYTES;
+    if (bytes > std::size_t(-1) - align)
+        throw std::bad_alloc();
+    const std::size_t span = bytes + align;
+    void* raw = ::mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (raw == MAP_FAILED)
         throw std::bad_alloc();
     const auto start = reinterpret_cast<std::uintptr_t>(raw);
-    const std::uintptr_t aligned = (start + bytes - 1) & ~std::uintptr_t(bytes - 1);
+    const std::uintptr_t aligned = (start + align - 1) & ~std::uintptr_t(align - 1);
     if (aligned > start)
         ::munmap(raw, aligned - start);
-    if (aligned + bytes < start + 2 * bytes)
-        ::munmap(reinterpret_cast<void*>(aligned + bytes), start + 2 * bytes - aligned - bytes);
-    void* chunk = reinterpret_cast<void*>(aligned);
+    if (aligned + bytes < start + span)
+        ::munmap(reinterpret_cast<void*>(aligned + bytes), start + span - aligned - bytes);
+    void* mapped = reinterpret_cast<void*>(aligned);
 #ifdef MADV_HUGEPAGE
     if (huge)
-        ::madvise(chunk, bytes, MADV_HUGEPAGE);  // a hint: without huge pages the pool works
+        ::madvise(mapped, bytes, MADV_HUGEPAGE);  // a hint: 4 KiB pages work as well
 #endif
-    return chunk;
+    return mapped;
+}
+
+void* mapChunk(bool huge) {
+    return mapAligned(BlockPool::CHUNK_BYTES, huge);
 }
 
 void unmapChunk(Chunk* c) {
     ::munmap(c, BlockPool::CHUNK_BYTES);
+}
+
+// The mapped size of a large array of `bytes` bytes: whole chunks.
+std::size_t largeArrayMapping(std::size_t bytes) {
+    constexpr std::size_t chunk = BlockPool::CHUNK_BYTES;
+    if (bytes > std::size_t(-1) - chunk)
+        throw std::bad_alloc();
+    return (bytes + chunk - 1) & ~(chunk - 1);
 }
 
 }  // namespace
@@ -257,6 +273,21 @@ void freeValueBlock(void* block, std::size_t bytes) noexcept {
         BlockPool::leafValues().deallocate(block, bytes);
     else
         ::operator delete(block, BLOCK_ALIGN);
+}
+
+void* allocateLargeArray(std::size_t bytes) {
+    if (bytes < LARGE_ARRAY_MIN || !poolEnabled())
+        return ::operator new(bytes, BLOCK_ALIGN);
+    return mapAligned(largeArrayMapping(bytes), /*huge=*/true);
+}
+
+void freeLargeArray(void* array, std::size_t bytes) noexcept {
+    if (!array)
+        return;
+    if (bytes < LARGE_ARRAY_MIN || !poolEnabled())
+        ::operator delete(array, BLOCK_ALIGN);
+    else
+        ::munmap(array, largeArrayMapping(bytes));
 }
 
 }  // namespace vdb::util

@@ -6,13 +6,17 @@
 // pool's counts must match the oracle's.
 
 #include <vdb/util/BlockPool.h>
+#include <vdb/util/LargeArray.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <mutex>
+#include <numeric>
 #include <random>
 #include <thread>
 #include <vector>
@@ -168,6 +172,57 @@ TEST(BlockPool, ValueBlocksAreAlignedAndWritable) {
         std::memset(p, 0xAB, bytes);
         freeValueBlock(p, bytes);
     }
+}
+
+// Large arrays below, at and above LARGE_ARRAY_MIN, several live at once and freed out of
+// order: each keeps its own pattern, so no two overlap and no free touches a live one.
+TEST(LargeArray, ArraysAreAlignedDisjointAndKeepTheirContents) {
+    const std::vector<size_t> sizes = {8,
+                                       4096,
+                                       LARGE_ARRAY_MIN - 8,
+                                       LARGE_ARRAY_MIN,
+                                       BlockPool::CHUNK_BYTES,
+                                       BlockPool::CHUNK_BYTES + 8,
+                                       3 * BlockPool::CHUNK_BYTES + 4096};
+    std::vector<Live> live;
+    uint64_t serial = 0;
+    for (int round = 0; round < 2; ++round) {
+        for (size_t bytes : sizes) {
+            Live b{static_cast<uint64_t*>(allocateLargeArray(bytes)), bytes, ++serial};
+            EXPECT_EQ(reinterpret_cast<uintptr_t>(b.data) % 64, 0u) << bytes << " bytes";
+            stamp(b);
+            live.push_back(b);
+        }
+    }
+    for (size_t k = 0; k < live.size(); k += 2) {
+        EXPECT_TRUE(intact(live[k])) << live[k].bytes << " bytes";
+        freeLargeArray(live[k].data, live[k].bytes);
+    }
+    for (size_t k = 1; k < live.size(); k += 2) {
+        EXPECT_TRUE(intact(live[k])) << live[k].bytes << " bytes";
+        freeLargeArray(live[k].data, live[k].bytes);
+    }
+    freeLargeArray(nullptr, LARGE_ARRAY_MIN);  // like delete of null: nothing
+}
+
+TEST(LargeArray, VectorGrowsAcrossTheThresholdAndKeepsItsElements) {
+    LargeVector<uint64_t> v;
+    const size_t n = 3 * LARGE_ARRAY_MIN / sizeof(uint64_t) + 5;
+    for (size_t i = 0; i < n; ++i)
+        v.push_back(i * 3);  // reallocates from operator new into mappings
+    ASSERT_EQ(v.size(), n);
+    for (size_t i = 0; i < n; ++i)
+        ASSERT_EQ(v[i], i * 3) << i;
+    LargeVector<uint64_t> copy(v);
+    v.clear();
+    v.shrink_to_fit();
+    EXPECT_EQ(std::accumulate(copy.begin(), copy.end(), uint64_t(0)), 3 * (n * (n - 1) / 2));
+}
+
+TEST(LargeArray, ImpossibleCountsThrowBeforeAllocating) {
+    LargeArrayAllocator<std::array<uint64_t, 8>> alloc;
+    EXPECT_THROW((void)alloc.allocate(std::numeric_limits<size_t>::max() / 8),
+                 std::bad_array_new_length);
 }
 
 }  // namespace

@@ -15,10 +15,13 @@
 
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tools/detail/LeafBuild.h>
+#include <vdb/tools/detail/NodeLists.h>
 #include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/tree/ValueAccessor.h>
 #include <vdb/util/BitMask.h>
+#include <vdb/util/LargeArray.h>
 #include <vdb/util/Parallel.h>
 
 #include <algorithm>
@@ -214,8 +217,8 @@ inline bool offsetOrigin(const Coord& origin, Int64 dx, Int64 dy, Int64 dz, Int6
 /// The mask array keeps two extra entries past the last region, an all-off and an all-on mask,
 /// which stand for absent neighbours (inactive space, or space under an active tile).
 ///
-/// Threads: add() is serial; the steps run in parallel over regions and give the same masks
-/// for any number of threads.
+/// Threads: assign() and the steps run in parallel over regions, add() is serial; the region
+/// numbers and the masks are the same for any number of threads.
 template <Index Log2Dim>
 class MaskRegionSet {
 public:
@@ -229,13 +232,12 @@ public:
     MaskRegionSet() : mMasks{Mask(), Mask(true)} {}
 
     size_t size() const { return mOrigins.size(); }
-    /// Room for `n` regions without growing the arrays (growth copies them into fresh pages).
-    void reserve(size_t n) {
-        mOrigins.reserve(n);
-        mBlock.reserve(n);
-        mLocal.reserve(n);
-        mMasks.reserve(n + 2);
-    }
+
+    /// Makes an empty set the `n` regions `originOf(i)` with masks `maskOf(i)`, numbered i,
+    /// building the arrays in parallel when `threaded`. @pre the set is empty; the origins are
+    /// distinct multiples of DIM
+    template <typename OriginT, typename MaskT>
+    void assign(size_t n, const OriginT& originOf, const MaskT& maskOf, bool threaded);
     const Coord& origin(size_t i) const { return mOrigins[i]; }
     const Mask& mask(size_t i) const { return mMasks[i]; }
 
@@ -243,7 +245,7 @@ public:
     uint32_t add(const Coord& origin, const Mask& mask) {
         const uint32_t id = uint32_t(mOrigins.size());
         const Coord r = origin >> Log2Dim;
-        const uint32_t block = findOrAddBlock(r >> BLOCK_LOG2);
+        const uint32_t block = findOrAddBlock(blockKey(origin));
         const uint16_t local = localIndex(r[0], r[1], r[2]);
         VDB_ASSERT(mSlots[block][local] == NONE);
         mSlots[block][local] = id;
@@ -305,6 +307,24 @@ private:
     static uint16_t localIndex(int x, int y, int z) {
         return uint16_t(((x & 7) << 6) | ((y & 7) << 3) | (z & 7));
     }
+    static Coord blockKey(const Coord& origin) { return (origin >> Log2Dim) >> BLOCK_LOG2; }
+
+    /// Links block `id` (at `key`) to its existing neighbours, and them to it when `both`.
+    void linkBlock(uint32_t id, const Coord& key, bool both) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dz = -1; dz <= 1; ++dz) {
+                    const size_t slot = size_t((dx + 1) * 9 + (dy + 1) * 3 + (dz + 1));
+                    const auto other = mBlockMap.find(key.offsetBy(dx, dy, dz));
+                    if (other == mBlockMap.end())
+                        continue;
+                    mNeighbourBlocks[id][slot] = other->second;
+                    if (both)
+                        mNeighbourBlocks[other->second][26 - slot] = id;
+                }
+            }
+        }
+    }
 
     uint32_t findOrAddBlock(const Coord& key) {
         const auto [it, added] = mBlockMap.try_emplace(key, uint32_t(mSlots.size()));
@@ -315,32 +335,20 @@ private:
         mSlots.back().fill(NONE);
         mNeighbourBlocks.emplace_back();
         mNeighbourBlocks.back().fill(NONE);
-        // Link the new block and its existing neighbours both ways.
-        for (int dx = -1; dx <= 1; ++dx) {
-            for (int dy = -1; dy <= 1; ++dy) {
-                for (int dz = -1; dz <= 1; ++dz) {
-                    const size_t slot = size_t((dx + 1) * 9 + (dy + 1) * 3 + (dz + 1));
-                    const auto other = mBlockMap.find(key.offsetBy(dx, dy, dz));
-                    if (other == mBlockMap.end())
-                        continue;
-                    mNeighbourBlocks[id][slot] = other->second;
-                    mNeighbourBlocks[other->second][26 - slot] = id;
-                }
-            }
-        }
+        linkBlock(id, key, /*both=*/true);
         return id;
     }
 
     // Scratch mask arrays sized for the current regions, with the two sentinels at the end.
-    void prepare(std::vector<Mask>& buffer) const {
+    void prepare(util::LargeVector<Mask>& buffer) const {
         buffer.resize(mOrigins.size() + 2);
         buffer[mOrigins.size()] = Mask();
         buffer[mOrigins.size() + 1] = Mask(true);
     }
 
     template <bool Erode, int Axis>
-    static Word axisWord(const std::vector<Mask>& in, const std::array<uint32_t, 6>& face, size_t i,
-                         Index w) {
+    static Word axisWord(const util::LargeVector<Mask>& in, const std::array<uint32_t, 6>& face,
+                         size_t i, Index w) {
         const Word* self = in[i].words();
         const Word* prev = in[face[2 * Axis]].words();
         const Word* next = in[face[2 * Axis + 1]].words();
@@ -351,17 +359,82 @@ private:
         }
     }
 
-    std::vector<Coord> mOrigins;
-    std::vector<uint32_t> mBlock;  // block of each region
-    std::vector<uint16_t> mLocal;  // slot of each region in its block
-    std::vector<Mask> mMasks;      // one per region, then the all-off and all-on sentinels
+    // The arrays with an entry per region or block are large for large grids: they come from
+    // util::LargeVector, whose huge pages make their first touch cheap.
+    util::LargeVector<Coord> mOrigins;
+    util::LargeVector<uint32_t> mBlock;  // block of each region
+    util::LargeVector<uint16_t> mLocal;  // slot of each region in its block
+    util::LargeVector<Mask> mMasks;      // one per region, then the all-off and all-on sentinels
     std::vector<uint32_t> mPinned;
-    std::vector<std::array<uint32_t, 6>> mFace;  // -x, +x, -y, +y, -z, +z; indices into mMasks
-    std::vector<Mask> mScratchA, mScratchB, mScratchC;
+    util::LargeVector<std::array<uint32_t, 6>> mFace;  // -x, +x, -y, +y, -z, +z; into mMasks
+    util::LargeVector<Mask> mScratchA, mScratchB, mScratchC;
     std::unordered_map<Coord, uint32_t, KeyHash> mBlockMap;
-    std::vector<Slots> mSlots;                               // region of each block slot, or NONE
-    std::vector<std::array<uint32_t, 27>> mNeighbourBlocks;  // by (dx+1)*9+(dy+1)*3+(dz+1)
+    util::LargeVector<Slots> mSlots;  // region of each block slot, or NONE
+    util::LargeVector<std::array<uint32_t, 27>> mNeighbourBlocks;  // (dx+1)*9+(dy+1)*3+(dz+1)
 };
+
+template <Index Log2Dim>
+template <typename OriginT, typename MaskT>
+void MaskRegionSet<Log2Dim>::assign(size_t n, const OriginT& originOf, const MaskT& maskOf,
+                                    bool threaded) {
+    VDB_ASSERT(size() == 0);
+    constexpr size_t grain = 256;
+    mOrigins.resize(n);
+    mBlock.resize(n);
+    mLocal.resize(n);
+    mMasks.resize(n + 2);
+    mMasks[n] = Mask();
+    mMasks[n + 1] = Mask(true);
+
+    // The regions, and the keys of their blocks per task (consecutive regions mostly share a
+    // block); sorted afterwards, so that block numbers do not depend on how the range was split.
+    std::vector<Coord> keys;
+    std::mutex mutex;
+    util::parallelForRange(
+        n,
+        [&](size_t begin, size_t end) {
+            std::vector<Coord> local;
+            for (size_t i = begin; i < end; ++i) {
+                const Coord origin = originOf(i);
+                const Coord r = origin >> Log2Dim;
+                mOrigins[i] = origin;
+                mMasks[i] = maskOf(i);
+                mLocal[i] = localIndex(r[0], r[1], r[2]);
+                const Coord key = r >> BLOCK_LOG2;
+                if (local.empty() || local.back() != key)
+                    local.push_back(key);
+            }
+            std::lock_guard<std::mutex> lock(mutex);
+            keys.insert(keys.end(), local.begin(), local.end());
+        },
+        threaded, grain);
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+
+    const size_t blocks = keys.size();
+    mBlockMap.reserve(blocks);
+    for (size_t b = 0; b < blocks; ++b)
+        mBlockMap.emplace(keys[b], uint32_t(b));
+    mSlots.resize(blocks);
+    mNeighbourBlocks.resize(blocks);
+    util::parallelFor(
+        blocks,
+        [&](size_t b) {
+            mSlots[b].fill(NONE);
+            mNeighbourBlocks[b].fill(NONE);
+            linkBlock(uint32_t(b), keys[b], /*both=*/false);
+        },
+        threaded, 16);
+    util::parallelFor(
+        n,
+        [&](size_t i) {
+            const uint32_t block = mBlockMap.find(blockKey(mOrigins[i]))->second;
+            VDB_ASSERT(mSlots[block][mLocal[i]] == NONE);
+            mBlock[i] = block;
+            mSlots[block][mLocal[i]] = uint32_t(i);
+        },
+        threaded, grain);
+}
 
 template <Index Log2Dim>
 template <typename MakeAcceptT>
@@ -525,6 +598,35 @@ void MaskRegionSet<Log2Dim>::step(NearestNeighbors nn, bool threaded) {
 }
 
 // ---- Tree walks -------------------------------------------------------------------------------
+
+/// The leaves of `tree` in the order of the nodes' tables, gathered in parallel below the
+/// nodes of level 1 when `threaded`.
+template <typename TreeT>
+util::LargeVector<typename TreeT::LeafNodeType*> leavesOf(TreeT& tree, bool threaded) {
+    using LeafT = typename TreeT::LeafNodeType;
+    util::LargeVector<LeafT*> leaves;
+    if constexpr (TreeT::TopNodeType::LEVEL < 2) {
+        leaves.reserve(tree.leafCount());
+        for (auto it = tree.beginLeaf(); it; ++it)
+            leaves.push_back(&*it);
+    } else {
+        const NodeLists<TreeT> lists(tree, 1);
+        const auto& parents = lists.template nodes<1>();
+        std::vector<size_t> first(parents.size() + 1, 0);
+        for (size_t p = 0; p < parents.size(); ++p)
+            first[p + 1] = first[p] + parents[p]->getChildMask().countOn();
+        leaves.resize(first.back());
+        util::parallelFor(
+            parents.size(),
+            [&](size_t p) {
+                size_t k = first[p];
+                for (Index n : parents[p]->getChildMask().onBits())
+                    leaves[k++] = parents[p]->getChild(n);
+            },
+            threaded, 8);
+    }
+    return leaves;
+}
 
 /// An active tile: its first voxel, its edge in voxels and the level of the node holding it.
 struct TileRef {
@@ -791,14 +893,11 @@ void Morphology<TreeT>::dilate(TreeT& tree, int iterations, NearestNeighbors nn,
     const CoordBBox domain = TreeT::domain();
 
     // Every leaf is a region (empty ones too, so that no leaf is created twice).
-    std::vector<LeafT*> leaves;
-    leaves.reserve(tree.leafCount());
+    const util::LargeVector<LeafT*> leaves = leavesOf(tree, threaded);
     Set set;
-    set.reserve(tree.leafCount());
-    for (auto it = tree.beginLeaf(); it; ++it) {
-        leaves.push_back(&*it);
-        set.add(it->origin(), it->getValueMask());
-    }
+    set.assign(
+        leaves.size(), [&](size_t i) { return leaves[i]->origin(); },
+        [&](size_t i) -> const auto& { return leaves[i]->getValueMask(); }, threaded);
     const size_t leafRegions = set.size();
 
     // Preserved tiles dilate like their voxels: their regions next to uncovered space join
@@ -836,18 +935,29 @@ void Morphology<TreeT>::dilate(TreeT& tree, int iterations, NearestNeighbors nn,
         set.template step<false>(nn, threaded);
     }
 
-    // Write the masks back: existing leaves in parallel, new leaves serially in set order.
+    // Write the masks back into the existing leaves, and make the new leaves, in parallel; then
+    // link the new ones, in an order that does not depend on the thread count.
     util::parallelFor(
         leafRegions, [&](size_t i) { leaves[i]->setValueMask(set.mask(i)); }, threaded, 256);
-    typename TreeT::Accessor acc(tree);
-    CoverageProbe<TreeT> covered(tree);
-    for (size_t i = leafRegions; i < set.size(); ++i) {
-        const Coord& o = set.origin(i);
-        // Tile regions and, when tiles are ignored, regions the voxels reached under a tile.
-        if (tiles && covered(o))
-            continue;
-        acc.touchLeaf(o)->getValueMask() |= set.mask(i);
-    }
+    std::vector<std::unique_ptr<LeafT>> added(set.size() - leafRegions);
+    util::parallelForRange(
+        added.size(),
+        [&](size_t begin, size_t end) {
+            CoverageProbe<TreeT> covered(tree);
+            tree::ValueAccessor<const TreeT> acc(tree);
+            for (size_t k = begin; k < end; ++k) {
+                const size_t i = leafRegions + k;
+                const Coord& o = set.origin(i);
+                // Tile regions and, when tiles are ignored, regions the voxels reached under a
+                // tile. Any other region lies in inactive space: its leaf takes the value there.
+                if (tiles && covered(o))
+                    continue;
+                added[k] = std::make_unique<LeafT>(o, acc.getValue(o), false);
+                added[k]->setValueMask(set.mask(i));
+            }
+        },
+        threaded, 64);
+    linkLeaves(tree, added, threaded);
     if (mode == PRESERVE_TILES)
         tree.prune();
 }
@@ -862,17 +972,23 @@ void Morphology<TreeT>::erode(TreeT& tree, int iterations, NearestNeighbors nn, 
     const bool tiles = mode != EXPAND_TILES && Tiles::hasActiveTiles(tree);
 
     // Leaves with active voxels are the regions that can change (with the tiles' below).
-    std::vector<LeafT*> regionLeaf;
-    Set set;
-    set.reserve(tree.leafCount());
-    regionLeaf.reserve(tree.leafCount());
-    for (auto it = tree.beginLeaf(); it; ++it) {
-        LeafT& leaf = *it;
-        if (leaf.isEmpty())
-            continue;
-        set.add(leaf.origin(), leaf.getValueMask());
-        regionLeaf.push_back(&leaf);
+    util::LargeVector<LeafT*> regionLeaf = leavesOf(tree, threaded);
+    {
+        util::LargeVector<char> empty(regionLeaf.size());
+        util::parallelFor(
+            regionLeaf.size(), [&](size_t i) { empty[i] = regionLeaf[i]->isEmpty(); }, threaded,
+            256);
+        size_t kept = 0;
+        for (size_t i = 0; i < regionLeaf.size(); ++i) {
+            if (!empty[i])
+                regionLeaf[kept++] = regionLeaf[i];
+        }
+        regionLeaf.resize(kept);
     }
+    Set set;
+    set.assign(
+        regionLeaf.size(), [&](size_t i) { return regionLeaf[i]->origin(); },
+        [&](size_t i) -> const auto& { return regionLeaf[i]->getValueMask(); }, threaded);
     const size_t leafRegions = set.size();
 
     std::vector<TileRef> tileList;
