@@ -630,13 +630,12 @@ GridBase::Ptr File::readGridMetadata(std::string_view name) const {
 namespace {
 
 /// Appends the descriptor of one grid to `out`, whose first byte will sit at file offset
-/// `base`; its tree follows in the file: the topology in `tree`, then the leaf buffers in
-/// `buffers` (both empty for an instance). They are written from where they were encoded,
-/// never copied behind the descriptor.
-void writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree,
-               std::vector<std::vector<uint8_t>>& buffers, uint64_t base, const GridBase& grid,
-               const GridTypeIo& io, const std::string& uniqueName, const std::string& parent,
-               uint32_t compression, bool stats) {
+/// `base`; its tree follows in the file: the topology in `tree`, then the leaf buffers that
+/// the returned info's emitBuffers hands over (nothing for an instance). They are written from
+/// where they were encoded, never copied behind the descriptor.
+TreeWriteInfo writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree, uint64_t base,
+                        const GridBase& grid, const GridTypeIo& io, const std::string& uniqueName,
+                        const std::string& parent, uint32_t compression, bool stats) {
     ByteWriter w(out);
     const bool half = grid.saveFloatAsHalf();
     w.putString(uniqueName);
@@ -676,10 +675,7 @@ void writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree,
         options.buffersApart = true;
         info = io.write(tw, grid, options);
     }
-    buffers = std::move(info.buffers);
-    uint64_t treeBytes = tree.size();
-    for (const auto& b : buffers)
-        treeBytes += b.size();
+    const uint64_t treeBytes = tree.size() + info.bufferBytes;
     std::map<std::string, std::pair<std::string, std::vector<uint8_t>>> extra;
     if (parent.empty() && io.hasDelayedLoadTable)
         extra[std::string(META_DELAYED_LOAD)] = {"__delayedload", delayedLoadTable(info, flags)};
@@ -691,6 +687,7 @@ void writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree,
     w.patch(offsets, int64_t(gridPos));
     w.patch(offsets + 8, int64_t(blockPos));
     w.patch(offsets + 16, int64_t(endPos));
+    return info;
 }
 
 }  // namespace
@@ -750,7 +747,6 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
     // Grids that share a tree (and the half setting) become instances of the first.
     std::vector<std::pair<const void*, size_t>> written;
     std::vector<uint8_t> tree;
-    std::vector<std::vector<uint8_t>> buffers;
     for (size_t i = 0; i < grids.size(); ++i) {
         std::string parent;
         const void* identity = types[i]->treeIdentity(*grids[i]);
@@ -764,14 +760,14 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         if (parent.empty())
             written.emplace_back(identity, i);
         bytes.clear();
-        writeGrid(bytes, tree, buffers, offset, *grids[i], *types[i], unique[i], parent,
-                  mCompression, mStats);
+        const TreeWriteInfo info = writeGrid(bytes, tree, offset, *grids[i], *types[i], unique[i],
+                                             parent, mCompression, mStats);
         out.write(bytes);
         out.write(tree);
         offset += bytes.size() + tree.size();
-        for (const auto& block : buffers) {
-            out.write(block);
-            offset += block.size();
+        if (info.emitBuffers) {
+            info.emitBuffers([&](const uint8_t* data, size_t size) { out.write(data, size); });
+            offset += info.bufferBytes;
         }
     }
     out.commit();

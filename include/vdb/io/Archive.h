@@ -27,6 +27,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -41,9 +42,11 @@ namespace vdb::io {
 struct TreeWriteOptions {
     uint32_t flags = COMPRESS_ACTIVE_MASK;
     bool half = false;
-    /// Leave the leaf buffers' bytes in TreeWriteInfo::buffers (in file order, to be written
-    /// right after the topology) instead of appending them to the writer: a file writer then
-    /// hands them to the file without copying them into one large new buffer.
+    /// Leave the leaf buffers out of the writer: TreeWriteInfo::emitBuffers hands them to the
+    /// file writer afterwards (to be written right after the topology), so that they are never
+    /// copied into one large new buffer. Without a codec they are not even kept: writeTree()
+    /// encodes them once to learn their sizes and codes, and emitBuffers() encodes them again,
+    /// a few blocks at a time, into buffers it reuses.
     bool buffersApart = false;
 };
 
@@ -85,11 +88,18 @@ struct TreeReadOptions {
 /// and, per leaf in file order, the mask-compression code and the size of its value chunk
 /// (the `file_delayed_load` table, FORMAT.md 1.12).
 struct TreeWriteInfo {
+    /// Receives bytes in file order.
+    using Sink = std::function<void(const uint8_t* data, size_t size)>;
+
     size_t buffersOffset = 0;
     std::vector<int8_t> leafCodes;
     std::vector<uint64_t> leafChunkBytes;
-    /// With TreeWriteOptions::buffersApart: the leaf buffers' bytes, in blocks in file order.
-    std::vector<std::vector<uint8_t>> buffers;
+    /// With TreeWriteOptions::buffersApart: the size of the leaf buffers' bytes, and what
+    /// hands them to a sink, in blocks in file order. emitBuffers reads the tree's leaves: the
+    /// tree must stay unchanged until it has run. @throw IoError when the leaves encode to
+    /// other sizes than they did in writeTree() (the tree was changed in between)
+    uint64_t bufferBytes = 0;
+    std::function<void(const Sink&)> emitBuffers;
 };
 
 /// Appends the topology and buffers of `tree` (a tree with a RootNode on top).
@@ -415,26 +425,77 @@ TreeWriteInfo writeTree(ByteWriter& w, const TreeT& tree, const TreeWriteOptions
     info.buffersOffset = w.pos() - start;
     info.leafCodes.resize(leaves.size());
     info.leafChunkBytes.resize(leaves.size());
-    // Leaves in blocks, each encoded into its own buffer, then appended in order.
+    // Leaves in blocks of BLOCK, each block encoded into its own buffer. The list is shared
+    // with emitBuffers, which may run after this function has returned.
     constexpr size_t BLOCK = 64;
     const size_t blocks = (leaves.size() + BLOCK - 1) / BLOCK;
-    std::vector<std::vector<uint8_t>> out(blocks);
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t>& range) {
-            detail::CodecScratch local;
-            for (size_t b = range.begin(); b != range.end(); ++b) {
-                ByteWriter bw(out[b]);
-                const size_t end = std::min(leaves.size(), (b + 1) * BLOCK);
-                for (size_t i = b * BLOCK; i < end; ++i) {
-                    const auto a =
-                        detail::writeLeafBuffer(bw, *leaves[i], background, options, local);
-                    info.leafCodes[i] = a.code;
-                    info.leafChunkBytes[i] = a.dataBytes;
+    const auto list = std::make_shared<const std::vector<const LeafT*>>(std::move(leaves));
+    const auto encodeBlock = [list, background, options](size_t b, std::vector<uint8_t>& out,
+                                                         detail::CodecScratch& local,
+                                                         TreeWriteInfo* record) {
+        out.clear();
+        ByteWriter bw(out);
+        const size_t end = std::min(list->size(), (b + 1) * BLOCK);
+        for (size_t i = b * BLOCK; i < end; ++i) {
+            const auto a = detail::writeLeafBuffer(bw, *(*list)[i], background, options, local);
+            if (record) {
+                record->leafCodes[i] = a.code;
+                record->leafChunkBytes[i] = a.dataBytes;
+            }
+        }
+    };
+    const bool codec = (options.flags & (COMPRESS_ZIP | COMPRESS_BLOSC)) != 0;
+    if (options.buffersApart && !codec) {
+        // Encode once for the sizes and codes, keeping nothing; emitBuffers encodes again.
+        auto sizes = std::make_shared<std::vector<uint64_t>>(blocks);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks),
+                          [&](const tbb::blocked_range<size_t>& range) {
+                              detail::CodecScratch local;
+                              std::vector<uint8_t> out;
+                              for (size_t b = range.begin(); b != range.end(); ++b) {
+                                  encodeBlock(b, out, local, &info);
+                                  (*sizes)[b] = out.size();
+                              }
+                          });
+        for (uint64_t size : *sizes)
+            info.bufferBytes += size;
+        info.emitBuffers = [encodeBlock, sizes, blocks](const TreeWriteInfo::Sink& sink) {
+            // A window of blocks at a time, encoded in parallel into buffers that the next
+            // window reuses.
+            constexpr size_t WINDOW = 16;
+            std::vector<std::vector<uint8_t>> window(std::min(WINDOW, blocks));
+            for (size_t first = 0; first < blocks; first += WINDOW) {
+                const size_t count = std::min(WINDOW, blocks - first);
+                tbb::parallel_for(tbb::blocked_range<size_t>(0, count),
+                                  [&](const tbb::blocked_range<size_t>& range) {
+                                      detail::CodecScratch local;
+                                      for (size_t k = range.begin(); k != range.end(); ++k)
+                                          encodeBlock(first + k, window[k], local, nullptr);
+                                  });
+                for (size_t k = 0; k < count; ++k) {
+                    if (window[k].size() != (*sizes)[first + k])
+                        throw IoError("a tree changed while it was being written");
+                    sink(window[k].data(), window[k].size());
                 }
             }
-        });
+        };
+        return info;
+    }
+    std::vector<std::vector<uint8_t>> out(blocks);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                          detail::CodecScratch local;
+                          for (size_t b = range.begin(); b != range.end(); ++b)
+                              encodeBlock(b, out[b], local, &info);
+                      });
     if (options.buffersApart) {
-        info.buffers = std::move(out);
+        for (const auto& block : out)
+            info.bufferBytes += block.size();
+        auto kept = std::make_shared<std::vector<std::vector<uint8_t>>>(std::move(out));
+        info.emitBuffers = [kept](const TreeWriteInfo::Sink& sink) {
+            for (const auto& block : *kept)
+                sink(block.data(), block.size());
+        };
         return info;
     }
     size_t total = 0;

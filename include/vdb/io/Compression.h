@@ -22,6 +22,7 @@
 #include <vdb/math/Half.h>
 #include <vdb/math/Vec3.h>
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -278,19 +279,27 @@ ArrayInfo writeCompressedValues(ByteWriter& w, const ValueT* values, const MaskT
                                 const MaskT* childMask, const ValueT& background, bool half,
                                 uint32_t flags, CodecScratch& scratch) {
     constexpr Index COUNT = MaskT::SIZE;
+    using Word = typename MaskT::Word;
+    // The inactive slots (children excluded) of mask word `w`.
+    const auto inactiveBits = [&](Index word) {
+        Word bits = ~valueMask.words()[word];
+        if (childMask)
+            bits &= ~childMask->words()[word];
+        return bits;
+    };
     ArrayInfo info;
     // Up to three distinct inactive values (children excluded), compared with ==, as OpenVDB.
     ValueT inactive[2] = {background, background};
     int unique = 0;
-    for (Index n = 0; n < COUNT && unique < 3; ++n) {
-        if (valueMask.isOn(n) || (childMask && childMask->isOn(n)))
-            continue;
-        const ValueT& v = values[n];
-        if ((unique > 0 && v == inactive[0]) || (unique > 1 && v == inactive[1]))
-            continue;
-        if (unique < 2)
-            inactive[unique] = v;
-        ++unique;
+    for (Index word = 0; word < MaskT::WORD_COUNT && unique < 3; ++word) {
+        for (Word bits = inactiveBits(word); bits != 0 && unique < 3; bits &= bits - 1) {
+            const ValueT& v = values[word * 64 + Index(std::countr_zero(bits))];
+            if ((unique > 0 && v == inactive[0]) || (unique > 1 && v == inactive[1]))
+                continue;
+            if (unique < 2)
+                inactive[unique] = v;
+            ++unique;
+        }
     }
     const ValueT minusBg = negativeOf(background);
     MaskCode code = MaskCode::NoMaskOrInactiveVals;
@@ -338,15 +347,36 @@ ArrayInfo writeCompressedValues(ByteWriter& w, const ValueT* values, const MaskT
     }
     if (code == MaskCode::MaskAndNoInactiveVals || code == MaskCode::MaskAndOneInactiveVal ||
         code == MaskCode::MaskAndTwoInactiveVals) {
-        MaskT selection;
-        for (Index n = 0; n < COUNT; ++n) {
-            if (!valueMask.isOn(n) && values[n] == inactive[1])
-                selection.setOn(n);
+        // Every slot off in the value mask, child slots (zero in `values`) included.
+        Word selection[MaskT::WORD_COUNT];
+        for (Index word = 0; word < MaskT::WORD_COUNT; ++word) {
+            Word selected = 0;
+            for (Word bits = ~valueMask.words()[word]; bits != 0; bits &= bits - 1) {
+                const Index bit = Index(std::countr_zero(bits));
+                if (values[word * 64 + bit] == inactive[1])
+                    selected |= Word(1) << bit;
+            }
+            selection[word] = selected;
         }
-        w.write(selection.words(), sizeof(typename MaskT::Word) * MaskT::WORD_COUNT);
+        w.write(selection, sizeof(selection));
     }
-    // The active values, in slot order.
+    // The active values, in slot order: gathered straight into the output when they are
+    // stored as they are.
     const Index active = valueMask.countOn();
+    const bool direct = !(flags & (COMPRESS_BLOSC | COMPRESS_ZIP)) &&
+                        !(HALF_COMPONENTS<ValueT> > 0 && half) && !std::is_same_v<ValueT, bool>;
+    if (direct) {
+        auto& out = w.buffer();
+        const size_t start = out.size();
+        out.resize(start + size_t(active) * sizeof(ValueT));
+        uint8_t* dst = out.data() + start;
+        for (Index n : valueMask.onBits()) {
+            std::memcpy(dst, &values[n], sizeof(ValueT));
+            dst += sizeof(ValueT);
+        }
+        info.dataBytes = out.size() - start;
+        return info;
+    }
     auto& store = scratch.values;
     store.resize(size_t(active) * sizeof(ValueT));
     auto* gathered = reinterpret_cast<ValueT*>(store.data());

@@ -91,6 +91,8 @@ private:
     int mFd = -1;
     bool mUnnamed = false;  // mFd is an O_TMPFILE
     bool mCommitted = false;
+    uint64_t mWritten = 0;  // bytes written to the temporary file
+    uint64_t mFlushed = 0;  // of those, the bytes whose write-back has been started
 };
 
 /// Writes `path` through an OutputFile: calls `write(out)`, then commits. When `write` throws,
