@@ -292,17 +292,26 @@ void LevelSetAdvection<GridT, FieldT>::integrate(ValueType dt) {
     const ValueType dtInvDx = dt / mTracker.voxelSize();
     const VectorType* vel = mVelocity.data();
     const size_t* offsets = mOffsets.data();
-    const auto advection = [=](size_t li, Index ordinal, const ValueType* c) {
-        const VectorType& v = vel[offsets[li] + ordinal];
-        const int strides[3] = {Block::SX, Block::SY, 1};
-        ValueType dot(0);
-        for (int a = 0; a < 3; ++a) {
-            const auto line = detail::lineThrough<R>(c, strides[a]);
-            ValueType dm, dp;
-            math::biasedDifferences<Scheme>(line.data(), dm, dp);
-            dot += v[size_t(a)] * math::upwind(v[size_t(a)], dm, dp);
+    // phi_t = -v . grad phi with upwind differences, a row of voxels at a time: the velocities
+    // of the row's active voxels are spread out first (zero at inactive ones).
+    constexpr int DIM = Block::DIM;
+    const auto advection = [=](size_t li, Index ordinal, uint64_t rowBits, const ValueType* c,
+                               ValueType* res) {
+        ValueType v[3][DIM], dm[3][DIM], dp[3][DIM];
+        const VectorType* next = vel + offsets[li] + ordinal;
+        for (int k = 0; k < DIM; ++k) {
+            const bool on = (rowBits >> k) & 1;
+            for (int a = 0; a < 3; ++a)
+                v[a][k] = on ? (*next)[size_t(a)] : ValueType(0);
+            next += on;
         }
-        return c[0] - dtInvDx * dot;
+        detail::rowDifferences<Scheme>(c, Block::SX, Block::SY, dm, dp);
+        for (int k = 0; k < DIM; ++k) {
+            ValueType dot(0);
+            for (int a = 0; a < 3; ++a)
+                dot += v[a][k] * math::upwind(v[a][k], dm[a][k], dp[a][k]);
+            res[k] = c[k] - dtInvDx * dot;
+        }
     };
     const bool threaded = isThreaded();
     const auto stage = [&](Index src, Index dst, ValueType alpha) {

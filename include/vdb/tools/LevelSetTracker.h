@@ -169,17 +169,6 @@ void dispatchSpatialScheme(math::BiasedGradientScheme s, const FuncT& f) {
     }
 }
 
-/// Both one-sided derivatives along the three axes at `c` (a voxel in a LeafNeighborhood block
-/// with strides sx, sy, 1): d = {D-x, D+x, D-y, D+y, D-z, D+z}, in index space.
-template <math::BiasedGradientScheme Scheme, typename ValueT>
-inline void allDifferences(const ValueT* c, int sx, int sy, ValueT (&d)[6]) {
-    const int strides[3] = {sx, sy, 1};
-    for (int a = 0; a < 3; ++a) {
-        const auto line = lineThrough<math::stencilRadius(Scheme)>(c, strides[a]);
-        math::biasedDifferences<Scheme>(line.data(), d[2 * a], d[2 * a + 1]);
-    }
-}
-
 }  // namespace detail
 
 template <typename GridT>
@@ -223,15 +212,28 @@ void LevelSetTracker<GridT>::normalizeWith() {
     constexpr int R = math::stencilRadius(Scheme);
     using Block = detail::LeafNeighborhood<TreeType, R>;
     const ValueType dt = mCfl * mDx, invDx = ValueType(1) / mDx;
-    const auto eikonal = [dt, invDx](size_t, Index, const ValueType* c) {
-        ValueType d[6];
-        detail::allDifferences<Scheme>(c, Block::SX, Block::SY, d);
-        const ValueType phi = c[0];
-        const ValueType g2 =
-            math::godunovNormSqrd(phi > ValueType(0), d[0], d[1], d[2], d[3], d[4], d[5]);
-        const ValueType sign =
-            phi / (std::sqrt(phi * phi + g2) + math::Tolerance<ValueType>::value());
-        return phi - dt * sign * (std::sqrt(g2) * invDx - ValueType(1));
+    // phi_t = -sign(phi) (|grad phi| - 1), a row of voxels at a time. The square roots have a
+    // loop of their own: built where math functions may set errno (the default outside this
+    // library's sources, see CMakeLists.txt), that loop stays scalar and the others do not.
+    constexpr int DIM = Block::DIM;
+    const auto eikonal = [dt, invDx](size_t, Index, uint64_t, const ValueType* c, ValueType* res) {
+        ValueType dm[3][DIM], dp[3][DIM], g2[DIM], norm[DIM], grad[DIM];
+        detail::rowDifferences<Scheme>(c, Block::SX, Block::SY, dm, dp);
+        for (int k = 0; k < DIM; ++k) {
+            const ValueType phi = c[k];
+            g2[k] = math::godunovNormSqrd(phi > ValueType(0), dm[0][k], dp[0][k], dm[1][k],
+                                          dp[1][k], dm[2][k], dp[2][k]);
+            norm[k] = phi * phi + g2[k];
+        }
+        for (int k = 0; k < DIM; ++k) {
+            norm[k] = std::sqrt(norm[k]);
+            grad[k] = std::sqrt(g2[k]);
+        }
+        for (int k = 0; k < DIM; ++k) {
+            const ValueType phi = c[k];
+            const ValueType sign = phi / (norm[k] + math::Tolerance<ValueType>::value());
+            res[k] = phi - dt * sign * (grad[k] * invDx - ValueType(1));
+        }
     };
     const auto stage = [&](Index src, Index dst, ValueType alpha) {
         detail::eulerStage<R>(*mLeaves, src, dst, alpha, eikonal, mThreaded);

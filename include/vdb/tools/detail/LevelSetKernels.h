@@ -214,19 +214,25 @@ inline std::array<ValueT, 7> lineThrough(const ValueT* c, int stride) {
             c[r1 * stride],  c[r2 * stride],  c[r3 * stride]};
 }
 
-/// One Euler stage over the active voxels of every leaf: for each active voxel at offset n,
-///   out[n] = op(leafIndex, ordinal, centre)                          when alpha == 0
-///   out[n] = alpha * buffer0[n] + (1 - alpha) * op(...)              otherwise,
-/// where `out` is buffer `dst`, `centre` points at the voxel in the neighbourhood block of
-/// buffer `src` (strides SX, SY, 1) and `ordinal` counts the active voxels of the leaf in
-/// offset order. Every voxel's result depends only on buffer `src` (and buffer 0 at the same
-/// voxel), so results do not depend on the thread count.
+/// One Euler stage over the active voxels of every leaf, a row of DIM voxels along z at a time
+/// so that the row's arithmetic runs in vector lanes: `rowOp(leafIndex, ordinal, rowBits, c,
+/// res)` writes into res[0, DIM) the new values of the row whose first voxel is at `c` in the
+/// neighbourhood block of buffer `src` (strides SX, SY, 1); bit k of `rowBits` says whether
+/// voxel k of the row is active (only those results are used) and `ordinal` counts the active
+/// voxels of the leaf before the row, in offset order. For each active voxel at offset n,
+///   out[n] = res[k]                                   when alpha == 0
+///   out[n] = alpha * buffer0[n] + (1 - alpha) * res[k] otherwise,
+/// where `out` is buffer `dst`. Every voxel's result depends only on buffer `src` (and buffer 0
+/// at the same voxel), so results do not depend on the thread count.
 /// @pre src != dst; every leaf has the buffers named; dst may be 0
-template <int R, typename TreeT, typename OpT>
+template <int R, typename TreeT, typename RowOpT>
 void eulerStage(tree::LeafManager<TreeT>& leaves, Index src, Index dst,
-                typename TreeT::ValueType alpha, const OpT& op, bool threaded) {
+                typename TreeT::ValueType alpha, const RowOpT& rowOp, bool threaded) {
     using ValueT = typename TreeT::ValueType;
     using Block = LeafNeighborhood<TreeT, R>;
+    constexpr int DIM = Block::DIM;
+    static_assert(DIM <= 64 && 64 % DIM == 0, "a row of a leaf lies in one mask word");
+    constexpr uint64_t ROW = DIM == 64 ? ~uint64_t(0) : (uint64_t(1) << DIM) - 1;
     const TreeT& tree = leaves.tree();
     const ValueT beta = ValueT(1) - alpha;
     util::parallelForRange(
@@ -234,6 +240,7 @@ void eulerStage(tree::LeafManager<TreeT>& leaves, Index src, Index dst,
         [&](size_t begin, size_t end) {
             tree::ValueAccessor<const TreeT> acc(tree);
             Block block;
+            alignas(64) ValueT res[DIM];
             for (size_t li = begin; li < end; ++li) {
                 auto& leaf = leaves.leaf(li);
                 if (leaf.isEmpty())
@@ -243,19 +250,42 @@ void eulerStage(tree::LeafManager<TreeT>& leaves, Index src, Index dst,
                 ValueT* out = leaf.buffer(dst).data();
                 const auto* words = leaf.getValueMask().words();
                 Index ordinal = 0;
-                for (Index w = 0; w < leaf.getValueMask().WORD_COUNT; ++w) {
-                    for (uint64_t bits = words[w]; bits; bits &= bits - 1) {
-                        const int n = int(w << 6) + std::countr_zero(bits);
-                        const int i = n >> (2 * Block::LOG2);
-                        const int j = (n >> Block::LOG2) & (Block::DIM - 1);
-                        const int k = n & (Block::DIM - 1);
-                        const ValueT e = op(li, ordinal++, block.data() + Block::index(i, j, k));
-                        out[n] = alpha == ValueT(0) ? e : alpha * phi0[n] + beta * e;
+                for (int i = 0; i < DIM; ++i) {
+                    for (int j = 0; j < DIM; ++j) {
+                        const int first = (i * DIM + j) * DIM;
+                        const uint64_t rowBits = (words[first >> 6] >> (first & 63)) & ROW;
+                        if (rowBits == 0)
+                            continue;
+                        rowOp(li, ordinal, rowBits, block.data() + Block::index(i, j, 0), res);
+                        for (uint64_t bits = rowBits; bits; bits &= bits - 1) {
+                            const int k = std::countr_zero(bits);
+                            const int n = first + k;
+                            out[n] = alpha == ValueT(0) ? res[k] : alpha * phi0[n] + beta * res[k];
+                        }
+                        ordinal += Index(std::popcount(rowBits));
                     }
                 }
             }
         },
         threaded, 4);
+}
+
+/// The one-sided derivatives (D- in `dm`, D+ in `dp`, index space) of `Scheme` along the three
+/// axes at the DIM voxels of a row of a neighbourhood block (strides sx, sy, 1) starting at
+/// `c`: dm[a][k] and dp[a][k] for axis a at voxel k. One loop per axis over the row's voxels,
+/// which the compiler runs in vector lanes.
+template <math::BiasedGradientScheme Scheme, int DIM, typename ValueT>
+inline void rowDifferences(const ValueT* c, int sx, int sy, ValueT (&dm)[3][DIM],
+                           ValueT (&dp)[3][DIM]) {
+    constexpr int R = math::stencilRadius(Scheme);
+    const int strides[3] = {sx, sy, 1};
+    for (int a = 0; a < 3; ++a) {
+        const int stride = strides[a];
+        for (int k = 0; k < DIM; ++k) {
+            const auto line = lineThrough<R>(c + k, stride);
+            math::biasedDifferences<Scheme>(line.data(), dm[a][k], dp[a][k]);
+        }
+    }
 }
 
 /// Runs the stages of one TVD Runge-Kutta step of a Hamilton-Jacobi equation phi_t = -F(phi) in
