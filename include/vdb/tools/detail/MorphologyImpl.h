@@ -599,35 +599,6 @@ void MaskRegionSet<Log2Dim>::step(NearestNeighbors nn, bool threaded) {
 
 // ---- Tree walks -------------------------------------------------------------------------------
 
-/// The leaves of `tree` in the order of the nodes' tables, gathered in parallel below the
-/// nodes of level 1 when `threaded`.
-template <typename TreeT>
-util::LargeVector<typename TreeT::LeafNodeType*> leavesOf(TreeT& tree, bool threaded) {
-    using LeafT = typename TreeT::LeafNodeType;
-    util::LargeVector<LeafT*> leaves;
-    if constexpr (TreeT::TopNodeType::LEVEL < 2) {
-        leaves.reserve(tree.leafCount());
-        for (auto it = tree.beginLeaf(); it; ++it)
-            leaves.push_back(&*it);
-    } else {
-        const NodeLists<TreeT> lists(tree, 1);
-        const auto& parents = lists.template nodes<1>();
-        std::vector<size_t> first(parents.size() + 1, 0);
-        for (size_t p = 0; p < parents.size(); ++p)
-            first[p + 1] = first[p] + parents[p]->getChildMask().countOn();
-        leaves.resize(first.back());
-        util::parallelFor(
-            parents.size(),
-            [&](size_t p) {
-                size_t k = first[p];
-                for (Index n : parents[p]->getChildMask().onBits())
-                    leaves[k++] = parents[p]->getChild(n);
-            },
-            threaded, 8);
-    }
-    return leaves;
-}
-
 /// An active tile: its first voxel, its edge in voxels and the level of the node holding it.
 struct TileRef {
     Coord origin;
@@ -893,7 +864,8 @@ void Morphology<TreeT>::dilate(TreeT& tree, int iterations, NearestNeighbors nn,
     const CoordBBox domain = TreeT::domain();
 
     // Every leaf is a region (empty ones too, so that no leaf is created twice).
-    const util::LargeVector<LeafT*> leaves = leavesOf(tree, threaded);
+    const NodeLists<TreeT> lists(tree, 0, threaded);
+    const auto& leaves = lists.template nodes<0>();
     Set set;
     set.assign(
         leaves.size(), [&](size_t i) { return leaves[i]->origin(); },
@@ -972,7 +944,7 @@ void Morphology<TreeT>::erode(TreeT& tree, int iterations, NearestNeighbors nn, 
     const bool tiles = mode != EXPAND_TILES && Tiles::hasActiveTiles(tree);
 
     // Leaves with active voxels are the regions that can change (with the tiles' below).
-    util::LargeVector<LeafT*> regionLeaf = leavesOf(tree, threaded);
+    std::vector<LeafT*> regionLeaf = NodeLists<TreeT>(tree, 0, threaded).template nodes<0>();
     {
         util::LargeVector<char> empty(regionLeaf.size());
         util::parallelFor(

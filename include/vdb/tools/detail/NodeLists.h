@@ -38,7 +38,8 @@ namespace vdb::tools::detail {
 /// The arrays are a snapshot: a node freed after construction leaves a dangling pointer in its
 /// level's array, so a bottom-up pass must not revisit a level once the level above it has
 /// replaced children with tiles.
-/// Threads: construction is serial; the arrays may be read concurrently.
+/// Threads: construction fills each level below the top's children in parallel (each parent its
+/// own stretch of the array) when `threaded`; the arrays may be read concurrently.
 template <typename TreeT>
 class NodeLists {
 public:
@@ -50,9 +51,9 @@ public:
 
     /// Collects every node of the levels minLevel to TOP - 1. O(number of those nodes), plus
     /// one scan of the top node's child mask.
-    explicit NodeLists(TreeT& tree, Index minLevel = 0) {
+    explicit NodeLists(TreeT& tree, Index minLevel = 0, bool threaded = true) {
         if (minLevel < TOP)
-            collect<TOP - 1>(tree, minLevel);
+            collect<TOP - 1>(tree, minLevel, threaded);
     }
 
     template <Index L>
@@ -74,25 +75,30 @@ private:
     using Lists = decltype(makeLists(std::make_index_sequence<TOP>{}));
 
     template <Index L>
-    void collect(TreeT& tree, Index minLevel) {
+    void collect(TreeT& tree, Index minLevel, bool threaded) {
         auto& list = std::get<L>(mLists);
         if constexpr (L + 1 == TOP) {
             auto& top = tree.topNode();
             list.reserve(tree::childCount(top));
             tree::forEachChild(top, [&list](auto& child) { list.push_back(&child); });
         } else {
-            size_t count = 0;
-            for (const auto* parent : std::get<L + 1>(mLists))
-                count += parent->getChildMask().countOn();
-            list.reserve(count);
-            for (auto* parent : std::get<L + 1>(mLists)) {
-                for (Index n : parent->getChildMask().onBits())
-                    list.push_back(parent->getChild(n));
-            }
+            const auto& parents = std::get<L + 1>(mLists);
+            std::vector<size_t> first(parents.size() + 1, 0);
+            for (size_t p = 0; p < parents.size(); ++p)
+                first[p + 1] = first[p] + parents[p]->getChildMask().countOn();
+            list.resize(first.back());
+            util::parallelFor(
+                parents.size(),
+                [&](size_t p) {
+                    size_t k = first[p];
+                    for (Index n : parents[p]->getChildMask().onBits())
+                        list[k++] = parents[p]->getChild(n);
+                },
+                threaded, 8);
         }
         if constexpr (L > 0) {
             if (L > minLevel)
-                collect<L - 1>(tree, minLevel);
+                collect<L - 1>(tree, minLevel, threaded);
         }
     }
 
