@@ -14,6 +14,7 @@
 #include <vdb/util/Assert.h>
 #include <vdb/util/BitMask.h>
 #include <vdb/util/BlockPool.h>
+#include <vdb/util/Prefetch.h>
 
 #include <algorithm>
 #include <array>
@@ -225,6 +226,12 @@ public:
     bool isOutOfCore() const { return isRecord(loadData()); }
     /// Replaces the values by `record`, which will load them on first access.
     void setOutOfCore(std::unique_ptr<OutOfCore> record);
+    /// Hints that buffer 0 will be read soon (util::prefetchRead); does nothing out of core.
+    [[gnu::always_inline]] void prefetchValues() const {
+        const ValueT* p = loadData();
+        if (p != nullptr && !isRecord(p))
+            util::prefetchRead(p, NUM_VALUES * sizeof(ValueT));
+    }
     /// Loads out-of-core values now; does nothing for values in memory.
     void loadValues() const {
         if (isOutOfCore())

@@ -36,13 +36,15 @@ public:
     EntryT* find(const Coord& key) {
         if (mCount == 0)
             return nullptr;
-        for (size_t i = home(key);; i = (i + 1) & mMask) {
-            Slot& s = mSlots[i];
-            if (!s.used)
-                return nullptr;
-            if (s.key == key)
-                return &s.entry;
-        }
+        // Most keys sit in their home slot, and most absent keys find it empty (the table is
+        // at most half full): those tests are inlined, the rest of the probe run is not, which
+        // keeps top-down lookups short.
+        Slot& s = mSlots[home(key)];
+        if (!s.used)
+            return nullptr;
+        if (s.key == key) [[likely]]
+            return &s.entry;
+        return findInProbeRun(key);
     }
     const EntryT* find(const Coord& key) const { return const_cast<RootTable*>(this)->find(key); }
 
@@ -116,6 +118,16 @@ private:
         EntryT entry{};
     };
     size_t home(const Coord& key) const { return size_t((key >> KeyLog2).hash()) & mMask; }
+    // find() when the home slot holds another key: the whole probe run.
+    [[gnu::noinline]] EntryT* findInProbeRun(const Coord& key) {
+        for (size_t i = home(key);; i = (i + 1) & mMask) {
+            Slot& s = mSlots[i];
+            if (!s.used)
+                return nullptr;
+            if (s.key == key)
+                return &s.entry;
+        }
+    }
     Cursor skip(Cursor c) const {
         while (c < mSlots.size() && !mSlots[c].used)
             ++c;

@@ -234,6 +234,8 @@ private:
                 if (p >= N::NUM_VALUES)
                     return false;
                 if (child.isOn(p)) {
+                    if constexpr (L == 1 && Mode != WalkMode::Node)
+                        prefetchLeafAfter(*n, p);
                     if (descend<L>(n->getChild(p)))
                         return true;
                     ++p;
@@ -242,6 +244,17 @@ private:
                 mLevel = L;
                 return true;
             }
+        }
+    }
+
+    // Entering the leaf at `p` of `node`: hints the values of the next leaf, so that its cache
+    // misses overlap the walk over this one (leaves and their buffers lie anywhere in memory).
+    template <typename N>
+    static void prefetchLeafAfter(const N& node, Index p) {
+        if constexpr (requires(const NodeT<0>& leaf) { leaf.prefetchValues(); }) {
+            const Index next = node.getChildMask().findNextOn(p + 1);
+            if (next < N::NUM_VALUES)
+                node.getChild(next)->prefetchValues();
         }
     }
 
