@@ -24,6 +24,10 @@
 //                      the floors of the two: the active values summed from one array; every
 //                      leaf value (the bytes the iterations stream) summed the same way; the
 //                      same bytes read at memory speed
+//   BM_LookupFloor, BM_RandomLookupFloor ("Floor")
+//                      the floors of the lookups: the same loops with the tree replaced by one
+//                      array read (the leaf offset of the coordinates in one leaf's values; the
+//                      value of each random voxel in one array of every leaf value)
 //   BM_RandomInsert / BM_RandomInsertTopDown
 //                      the whole band in random order into an empty tree, with an accessor
 //                      or with tree.setValue()
@@ -48,6 +52,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -307,6 +312,66 @@ void BM_TopDownRandomLookup(benchmark::State& state) {
     lookupRandom<Lib, false>(state);
 }
 
+// The floor of the Table II lookups: the loop of lookupRepeated() with the coordinates read the
+// same way, and the tree replaced by one read of a leaf's worth of values at the coordinates'
+// leaf offset. What is left of a lookup's time above it is the tree's.
+void BM_LookupFloor(benchmark::State& state) {
+    static const std::vector<float> leaf = [] {
+        std::vector<float> out(vdb::FloatTree::LeafNodeType::NUM_VALUES);
+        for (size_t i = 0; i < out.size(); ++i)
+            out[i] = float(i);
+        return out;
+    }();
+    const int count = int(state.range(0));
+    const int64_t runLength = state.range(1);
+    const int64_t sweeps = kLookups / (count * runLength);
+    const volatile BandVoxel* probes = inputs().probes.data();
+    const float* values = leaf.data();
+    for (auto _ : state) {
+        for (int64_t sweep = 0; sweep < sweeps; ++sweep) {
+            for (int i = 0; i < count; ++i) {
+                for (int64_t n = 0; n < runLength; ++n) {
+                    const vdb::Coord ijk(probes[i].x, probes[i].y, probes[i].z);
+                    consume(values[vdb::FloatTree::LeafNodeType::coordToOffset(ijk)]);
+                }
+            }
+        }
+    }
+    setOps(state, sweeps * count * runLength);
+}
+
+// Every value the tree's leaves hold, active or not, in one array in leaf order: the bytes the
+// two iterations stream through (a narrow band touches nearly every cache line of its leaves).
+const std::vector<float>& leafBytes();
+
+// The floor of the random lookups: each voxel's value read from leafBytes() at its index,
+// computed beforehand, so one read from memory per lookup where a tree needs a chain of them.
+void BM_RandomLookupFloor(benchmark::State& state) {
+    static const std::vector<uint32_t> indices = [] {
+        const auto& tree = *sharedTree<Vdb>().tree;
+        std::map<vdb::Coord, uint32_t> first;  // leaf origin -> index of its first value
+        uint32_t next = 0;
+        for (auto leaf = tree.cbeginLeaf(); leaf;
+             ++leaf, next += vdb::FloatTree::LeafNodeType::NUM_VALUES)
+            first.emplace(leaf->origin(), next);
+        const auto& probes = inputs().randomProbes;
+        std::vector<uint32_t> out(probes.size());
+        for (size_t i = 0; i < probes.size(); ++i) {
+            const vdb::Coord ijk = coordOf<Vdb>(probes[i]);
+            out[i] = first.at(ijk.alignedDown(vdb::FloatTree::LeafNodeType::LOG2DIM)) +
+                     vdb::FloatTree::LeafNodeType::coordToOffset(ijk);
+        }
+        return out;
+    }();
+    const auto& values = leafBytes();
+    const size_t count = std::min(size_t(state.range(0)), indices.size());
+    for (auto _ : state) {
+        for (size_t i = 0; i < count; ++i)
+            consume(values[indices[i]]);
+    }
+    setOps(state, int64_t(count));
+}
+
 template <typename Lib>
 void BM_ValueIteration(benchmark::State& state) {
     const auto& shared = sharedTree<Lib>();
@@ -375,8 +440,6 @@ void BM_ArraySum(benchmark::State& state) {
     setOps(state, int64_t(values.size()));
 }
 
-// Every value the tree's leaves hold, active or not, in one array in leaf order: the bytes the
-// two iterations stream through (a narrow band touches nearly every cache line of its leaves).
 const std::vector<float>& leafBytes() {
     static const std::vector<float> values = [] {
         const auto& shared = sharedTree<Vdb>();
@@ -519,6 +582,11 @@ void registerBenchmarks() {
             ->Arg(kLookups)
             ->Iterations(1);
     });
+    add<Floor>("BM_LookupFloor", BM_LookupFloor)
+        ->Args({kProbeCount, kTableTwoRunLength})
+        ->Args({kProbeCount, 1})
+        ->MinTime(0.2);
+    add<Floor>("BM_RandomLookupFloor", BM_RandomLookupFloor)->Arg(kLookups)->Iterations(1);
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
         add<Lib>("BM_ValueIteration", BM_ValueIteration<Lib>)->MinTime(0.2);
@@ -765,6 +833,7 @@ public:
             MarkdownRow header{"Lookup"};
             header.insert(header.end(), headers.begin(), headers.end());
             md.table(header, lookupRows);
+            addLookupFloors(md, libs, tableTwo, roundRobin, random);
         }
         if (!otherRows.empty()) {
             md.paragraph("## Other operations");
@@ -831,6 +900,54 @@ private:
     using ByLib = std::map<std::string, Result>;
     using ByOp = std::map<std::string, ByLib>;
     using MarkdownRow = vdb::bench::MarkdownReport::Row;
+
+    /// The table of the lookups' floors: each lookup beside the same loop with the tree
+    /// replaced by one array read.
+    void addLookupFloors(vdb::bench::MarkdownReport& md, const std::vector<std::string>& libs,
+                         const std::string& tableTwo, const std::string& roundRobin,
+                         const std::string& random) const {
+        const auto nsOf = [this](const std::string& op, const char* lib) {
+            const ByLib* byLib = timesOf(op);
+            if (!byLib)
+                return kMissing;
+            const auto it = byLib->find(lib);
+            const double ops = it == byLib->end() ? 0.0 : counter(it->second, "ops");
+            return ops > 0 ? it->second.cpuNs / ops : kMissing;
+        };
+        if (std::find(libs.begin(), libs.end(), std::string(Vdb::kName)) == libs.end())
+            return;
+        std::vector<MarkdownRow> rows;
+        for (const auto& [label, lookup, floor] :
+             {std::tuple{"cached, Table II", "BM_CachedLookup/" + tableTwo,
+                         "BM_LookupFloor/" + tableTwo},
+              std::tuple{"top-down, Table II", "BM_TopDownLookup/" + tableTwo,
+                         "BM_LookupFloor/" + tableTwo},
+              std::tuple{"cached, round-robin", "BM_CachedLookup/" + roundRobin,
+                         "BM_LookupFloor/" + roundRobin},
+              std::tuple{"top-down, round-robin", "BM_TopDownLookup/" + roundRobin,
+                         "BM_LookupFloor/" + roundRobin},
+              std::tuple{"cached, 10^7 random voxels", "BM_CachedRandomLookup/" + random,
+                         "BM_RandomLookupFloor/" + random},
+              std::tuple{"top-down, 10^7 random voxels", "BM_TopDownRandomLookup/" + random,
+                         "BM_RandomLookupFloor/" + random}}) {
+            const double base = nsOf(floor, Floor::kName);
+            const double theirs = nsOf(lookup, OpenVdb::kName);
+            const double ours = nsOf(lookup, Vdb::kName);
+            if (!std::isfinite(base) || !std::isfinite(theirs) || !std::isfinite(ours))
+                continue;
+            rows.push_back({label, vdb::bench::fmt(base, 2), vdb::bench::fmt(base / theirs, 2),
+                            vdb::bench::fmt(ours / theirs, 2)});
+        }
+        if (rows.empty())
+            return;
+        md.paragraph(
+            "Floors of the lookups, CPU nanoseconds per lookup: the same loop with the tree "
+            "replaced by one array read (Table II and round-robin: the coordinates read the "
+            "same way and the value at their leaf offset in one leaf's values; random: each "
+            "voxel's value read from one array of every leaf value at an index computed "
+            "beforehand). Floor / OpenVdb is the lowest ratio any library could reach.");
+        md.table({"Lookup", "floor ns", "floor / OpenVdb", "Vdb / OpenVdb"}, rows);
+    }
 
     static constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
