@@ -997,10 +997,18 @@ private:
             }
             if (times.count(op) == 0)
                 continue;
-            printRow(op, times.at(op), libs, [](const Result& r) {
+            const auto nsPerOp = [](const Result& r) {
                 const double ops = counter(r, "ops");
                 return ops > 0 ? r.cpuNs / ops : -1.0;
-            });
+            };
+            const ByLib& byLib = times.at(op);
+            if (const auto floor = byLib.find(Floor::kName); floor != byLib.end()) {
+                // A floor has no library: its time goes in the first column.
+                std::printf("%-40s %9s  (floor)\n", op.c_str(),
+                            format(nsPerOp(floor->second)).c_str());
+                continue;
+            }
+            printRow(op, byLib, libs, nsPerOp);
         }
     }
 
