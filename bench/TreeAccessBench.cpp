@@ -724,10 +724,6 @@ public:
                     out[i] = metric(it->second);
             return out;
         };
-        const auto nsPerOp = [](const Result& r) {
-            const double ops = counter(r, "ops");
-            return ops > 0 ? r.cpuNs / ops : kMissing;
-        };
         const auto has = [](const Figures& f) {
             return std::any_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); });
         };
@@ -908,11 +904,8 @@ private:
                          const std::string& random) const {
         const auto nsOf = [this](const std::string& op, const char* lib) {
             const ByLib* byLib = timesOf(op);
-            if (!byLib)
-                return kMissing;
-            const auto it = byLib->find(lib);
-            const double ops = it == byLib->end() ? 0.0 : counter(it->second, "ops");
-            return ops > 0 ? it->second.cpuNs / ops : kMissing;
+            const auto it = byLib ? byLib->find(lib) : ByLib::const_iterator{};
+            return byLib && it != byLib->end() ? nsPerOp(it->second) : kMissing;
         };
         if (std::find(libs.begin(), libs.end(), std::string(Vdb::kName)) == libs.end())
             return;
@@ -997,19 +990,26 @@ private:
             }
             if (times.count(op) == 0)
                 continue;
-            const auto nsPerOp = [](const Result& r) {
-                const double ops = counter(r, "ops");
-                return ops > 0 ? r.cpuNs / ops : -1.0;
+            // The console marks a missing figure with a negative one.
+            const auto shown = [](const Result& r) {
+                const double ns = nsPerOp(r);
+                return std::isfinite(ns) ? ns : -1.0;
             };
             const ByLib& byLib = times.at(op);
             if (const auto floor = byLib.find(Floor::kName); floor != byLib.end()) {
                 // A floor has no library: its time goes in the first column.
                 std::printf("%-40s %9s  (floor)\n", op.c_str(),
-                            format(nsPerOp(floor->second)).c_str());
+                            format(shown(floor->second)).c_str());
                 continue;
             }
-            printRow(op, byLib, libs, nsPerOp);
+            printRow(op, byLib, libs, shown);
         }
+    }
+
+    /// CPU nanoseconds per operation of `r`; NaN when it counted no operation.
+    static double nsPerOp(const Result& r) {
+        const double ops = counter(r, "ops");
+        return ops > 0 ? r.cpuNs / ops : kMissing;
     }
 
     static double counter(const Result& r, const char* name) {
