@@ -124,39 +124,71 @@ inline double surfaceArea(const TestMesh& mesh) {
 }
 
 /// Distances from points to the triangles of a mesh (quads split), up to a search radius:
-/// the triangles are bucketed by their bounding boxes in cubes of edge `cell` (the radius by
-/// default), and a query visits rings of buckets around its own, nearest first, testing each
-/// triangle by the Voronoi-region closest point, until no farther bucket can hold anything
-/// closer.
+/// the triangles are bucketed by their bounding boxes in a dense grid of cubes of edge `cell`
+/// (the radius by default; larger when the mesh would need more than 2^21 of them) over the
+/// mesh's bounds, and a query visits shells of buckets around its own, nearest first, testing
+/// each triangle by the Voronoi-region closest point, until no farther bucket can hold anything
+/// closer. The bucket size changes only the time, never a distance.
 class MeshDistance {
 public:
     MeshDistance(const TestMesh& mesh, double radius, double cell = 0.0)
         : mRadius(radius), mCell(cell > 0.0 ? cell : radius), mTriangles(mesh.allTriangles()) {
         for (const Vec3s& p : mesh.points)
             mPoints.emplace_back(p);
-        for (uint32_t t = 0; t < mTriangles.size(); ++t) {
-            Vec3d lo(std::numeric_limits<double>::max()), hi(-lo[0]);
+        Vec3d lo(std::numeric_limits<double>::max()), hi(-lo[0]);
+        for (const Vec3I& t : mTriangles) {
+            Vec3d a(std::numeric_limits<double>::max()), b(-a[0]);
             for (int i = 0; i < 3; ++i) {
-                lo = Vec3d::minComponent(lo, mPoints[mTriangles[t][i]]);
-                hi = Vec3d::maxComponent(hi, mPoints[mTriangles[t][i]]);
+                a = Vec3d::minComponent(a, mPoints[t[i]]);
+                b = Vec3d::maxComponent(b, mPoints[t[i]]);
             }
-            mBoxes.push_back({lo, hi});
-            const Key a = key(lo), b = key(hi);
+            mBoxes.push_back({a, b});
+            lo = Vec3d::minComponent(lo, a);
+            hi = Vec3d::maxComponent(hi, b);
+        }
+        if (mTriangles.empty())
+            return;
+        mOrigin = lo;
+        constexpr double MAX_BUCKETS = double(1 << 21);
+        for (;;) {
+            double buckets = 1.0;
+            for (int a = 0; a < 3; ++a) {
+                mDims[size_t(a)] = int64_t(std::floor((hi[a] - lo[a]) / mCell)) + 1;
+                buckets *= double(mDims[size_t(a)]);
+            }
+            if (buckets <= MAX_BUCKETS)
+                break;
+            mCell *= std::max(1.01, std::cbrt(buckets / MAX_BUCKETS));
+        }
+        // Counts per bucket, their prefix sums, then the triangle numbers in bucket order.
+        mStarts.assign(size_t(mDims[0] * mDims[1] * mDims[2]) + 1, 0);
+        auto forEachBucket = [&](uint32_t t, auto&& op) {
+            const Key a = key(mBoxes[t].first), b = key(mBoxes[t].second);
             for (int64_t x = a[0]; x <= b[0]; ++x)
                 for (int64_t y = a[1]; y <= b[1]; ++y)
                     for (int64_t z = a[2]; z <= b[2]; ++z)
-                        mBuckets[{x, y, z}].push_back(t);
-        }
+                        op(index(x, y, z));
+        };
+        for (uint32_t t = 0; t < mTriangles.size(); ++t)
+            forEachBucket(t, [&](size_t i) { ++mStarts[i + 1]; });
+        for (size_t i = 1; i < mStarts.size(); ++i)
+            mStarts[i] += mStarts[i - 1];
+        mEntries.resize(mStarts.back());
+        std::vector<uint32_t> next(mStarts.begin(), mStarts.end() - 1);
+        for (uint32_t t = 0; t < mTriangles.size(); ++t)
+            forEachBucket(t, [&](size_t i) { mEntries[next[i]++] = t; });
     }
 
     /// The distance from p to the mesh, or the search radius when nothing is closer.
     double distance(const Vec3d& p) const {
         double best = mRadius * mRadius;
+        if (mTriangles.empty())
+            return mRadius;
         const Key c = key(p);
         // How far p lies from the nearest wall of its own bucket.
         double wall = mCell;
         for (int a = 0; a < 3; ++a) {
-            const double f = p[a] - double(c[size_t(a)]) * mCell;
+            const double f = p[a] - mOrigin[a] - double(c[size_t(a)]) * mCell;
             wall = std::min({wall, f, mCell - f});
         }
         const int64_t rings = int64_t(std::ceil(mRadius / mCell));
@@ -165,16 +197,21 @@ public:
             const double reach = r == 0 ? 0.0 : double(r - 1) * mCell + wall;
             if (reach * reach >= best)
                 break;
-            for (int64_t x = c[0] - r; x <= c[0] + r; ++x)
-                for (int64_t y = c[1] - r; y <= c[1] + r; ++y)
-                    for (int64_t z = c[2] - r; z <= c[2] + r; ++z) {
-                        if (std::max(
-                                {std::abs(x - c[0]), std::abs(y - c[1]), std::abs(z - c[2])}) != r)
+            const int64_t x0 = std::max<int64_t>(c[0] - r, 0),
+                          x1 = std::min<int64_t>(c[0] + r, mDims[0] - 1);
+            const int64_t y0 = std::max<int64_t>(c[1] - r, 0),
+                          y1 = std::min<int64_t>(c[1] + r, mDims[1] - 1);
+            for (int64_t x = x0; x <= x1; ++x)
+                for (int64_t y = y0; y <= y1; ++y) {
+                    // Inside the shell's x and y faces only its two z ends are on the shell.
+                    const bool face = std::abs(x - c[0]) == r || std::abs(y - c[1]) == r;
+                    const int64_t step = face || r == 0 ? 1 : 2 * r;
+                    for (int64_t z = c[2] - r; z <= c[2] + r; z += step) {
+                        if (z < 0 || z >= mDims[2])
                             continue;
-                        const auto it = mBuckets.find({x, y, z});
-                        if (it == mBuckets.end())
-                            continue;
-                        for (const uint32_t t : it->second) {
+                        const size_t i = index(x, y, z);
+                        for (uint32_t e = mStarts[i]; e < mStarts[i + 1]; ++e) {
+                            const uint32_t t = mEntries[e];
                             // The triangle's bounding box first: most are farther than the best.
                             const auto& [lo, hi] = mBoxes[t];
                             const Vec3d out = Vec3d::maxComponent(
@@ -187,27 +224,35 @@ public:
                             best = std::min(best, (q - p).lengthSqr());
                         }
                     }
+                }
         }
         return std::sqrt(best);
     }
 
 private:
     using Key = std::array<int64_t, 3>;
-    struct KeyHash {
-        size_t operator()(const Key& k) const {
-            return size_t(k[0] * 73856093) ^ size_t(k[1] * 19349663) ^ size_t(k[2] * 83492791);
-        }
-    };
+    /// The bucket holding p; outside the grid for points beyond the mesh's bounds.
     Key key(const Vec3d& p) const {
-        return {int64_t(std::floor(p[0] / mCell)), int64_t(std::floor(p[1] / mCell)),
-                int64_t(std::floor(p[2] / mCell))};
+        Key k;
+        for (int a = 0; a < 3; ++a) {
+            // Clamped far beyond the grid, so that no ring arithmetic overflows.
+            const double f = std::floor((p[a] - mOrigin[a]) / mCell);
+            k[size_t(a)] = int64_t(std::clamp(f, -double(1 << 30), double(1 << 30)));
+        }
+        return k;
+    }
+    size_t index(int64_t x, int64_t y, int64_t z) const {
+        return size_t((x * mDims[1] + y) * mDims[2] + z);
     }
 
     double mRadius, mCell;
     std::vector<Vec3I> mTriangles;
     std::vector<Vec3d> mPoints;
     std::vector<std::pair<Vec3d, Vec3d>> mBoxes;  // per triangle: its bounding box
-    std::unordered_map<Key, std::vector<uint32_t>, KeyHash> mBuckets;
+    Vec3d mOrigin{0.0};
+    Key mDims{0, 0, 0};
+    std::vector<uint32_t> mStarts;   // per bucket: its first entry; one more at the end
+    std::vector<uint32_t> mEntries;  // triangle numbers, bucket by bucket
 };
 
 /// Points spread over a mesh no more than about `spacing` apart: its vertices, and on every

@@ -67,7 +67,8 @@ Straying straying(const TestMesh& input, const TestMesh& output, double voxel,
                   const std::vector<Vec3d>& holeRims) {
     Straying out;
     out.outputToInput = test::directedHausdorff(output, input, 3.0 * voxel, 0.5 * voxel) / voxel;
-    const test::MeshDistance toInput(input, 3.0 * voxel), toOutput(output, 3.0 * voxel);
+    const test::MeshDistance toInput(input, 3.0 * voxel, voxel),
+        toOutput(output, 3.0 * voxel, voxel);
     TestMesh rims;
     for (const Vec3d& p : holeRims) {
         const uint32_t i = uint32_t(rims.points.size());

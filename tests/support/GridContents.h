@@ -60,20 +60,36 @@ struct ContentItem {
     bool operator==(const ContentItem&) const = default;
 };
 
-/// Every value the tree stores (voxels and tiles, active or not), sorted by box.
+/// Every value the tree stores (voxels and tiles, active or not), sorted by box (its minimum
+/// corner, then its level).
 template <typename TreeT>
 auto treeContents(const TreeT& tree) {
     using ValueT = typename TreeT::ValueType;
     std::vector<ContentItem<ValueT>> items;
+    // The sort key of each item: its corner's coordinates as unsigned numbers in the order of
+    // the signed ones, then its level, in two 64-bit words; sorted with its item's index.
+    struct Key {
+        uint64_t high, low;
+        uint32_t item;
+    };
+    std::vector<Key> keys;
+    const auto ordered = [](Int32 v) { return uint64_t(uint32_t(v) ^ 0x80000000u); };
     for (auto it = tree.cbeginValueAll(); it; ++it) {
         CoordBBox box;
         it.getBoundingBox(box);
-        items.push_back({box.min(), box.max(), int(it.getLevel()), it.isValueOn(), it.getValue()});
+        const Coord& min = box.min();
+        keys.push_back({(ordered(min[0]) << 32) | ordered(min[1]),
+                        (ordered(min[2]) << 32) | uint64_t(it.getLevel()), uint32_t(items.size())});
+        items.push_back({min, box.max(), int(it.getLevel()), it.isValueOn(), it.getValue()});
     }
-    std::sort(items.begin(), items.end(), [](const auto& a, const auto& b) {
-        return std::tie(a.min, a.level) < std::tie(b.min, b.level);
+    std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
+        return a.high != b.high ? a.high < b.high : a.low < b.low;
     });
-    return items;
+    std::vector<ContentItem<ValueT>> sorted;
+    sorted.reserve(items.size());
+    for (const Key& key : keys)
+        sorted.push_back(items[key.item]);
+    return sorted;
 }
 
 /// Success when both trees hold the same voxels and tiles, in the same states, with bitwise

@@ -34,8 +34,11 @@ void expectBox(const TreeT& tree, const test::SparseVolumeModel<float>& model,
         for (Int32 j = box.min()[1]; j <= box.max()[1]; ++j)
             for (Int32 k = box.min()[2]; k <= box.max()[2]; ++k) {
                 const Coord ijk{i, j, k};
-                ASSERT_EQ(tree.getValue(ijk), model.getValue(ijk)) << ijk;
-                ASSERT_EQ(tree.isValueOn(ijk), model.isValueOn(ijk)) << ijk;
+                float expected = 0.0f, got = 0.0f;
+                const bool expectedOn = model.probeValue(ijk, expected);
+                const bool on = tree.probeValue(ijk, got);
+                ASSERT_EQ(got, expected) << ijk;
+                ASSERT_EQ(on, expectedOn) << ijk;
             }
 }
 
