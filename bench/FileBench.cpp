@@ -18,6 +18,10 @@
 // the codecs and the parser, not of a disk. Every read grid is checked to have the input's
 // active voxel count; medians of --reps runs; ratio = vdb / openvdb.
 //
+// The floors of the writes: the bytes of this library's file written by plain write() calls,
+// once over the old file with no sync (as OpenVDB writes) and once durably (a new file in the
+// same folder, fsync, rename over the old file, fsync of the folder: as this library writes).
+//
 // With --markdown FILE the program also writes its results as Markdown tables to FILE and one
 // overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
 //
@@ -28,15 +32,19 @@
 #include <vdb/vdb.h>
 
 #include "BenchCommon.h"
+#include <fcntl.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/SignedFloodFill.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -137,6 +145,55 @@ Result measureOurs(const vdb::FloatGrid& input, const Setting& s, const std::str
     r.eagerMs = median(eager);
     r.delayedMs = median(delayed);
     return r;
+}
+
+// ---- Floors of the writes
+
+/// The medians of writing `bytes` bytes to `path` with plain write() calls: over the old file,
+/// truncated, with no sync; and durably, into a new file beside it that is synced and renamed
+/// over it, with the folder synced after.
+struct WriteFloor {
+    double plainMs = 0, durableMs = 0;
+};
+
+[[noreturn]] void failed(const char* what, const std::string& path) {
+    std::fprintf(stderr, "write floor: %s %s: %s\n", what, path.c_str(), std::strerror(errno));
+    std::exit(1);
+}
+
+WriteFloor measureWriteFloor(const std::string& path, uint64_t bytes, int reps) {
+    std::vector<char> data(bytes);
+    for (size_t i = 0; i < data.size(); ++i)  // every page touched before the clock runs
+        data[i] = char(i * 131 + 7);
+    const auto writeFile = [&](const std::string& file, bool sync) {
+        const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        if (fd < 0)
+            failed("open", file);
+        for (size_t done = 0; done < data.size();) {
+            const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+            if (n < 0 && errno != EINTR)
+                failed("write", file);
+            done += n > 0 ? size_t(n) : 0;
+        }
+        if ((sync && ::fsync(fd) != 0) || ::close(fd) != 0)
+            failed("fsync or close", file);
+    };
+    const std::string temporary = path + ".floor";
+    const std::string folder = std::filesystem::path(path).parent_path().string();
+    std::vector<double> plain, durable;
+    for (int i = 0; i < reps; ++i) {
+        plain.push_back(timeMs([&] { writeFile(path, false); }));
+        durable.push_back(timeMs([&] {
+            writeFile(temporary, true);
+            if (std::rename(temporary.c_str(), path.c_str()) != 0)
+                failed("rename to", path);
+            const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+            if (fd < 0 || ::fsync(fd) != 0 || ::close(fd) != 0)
+                failed("fsync of the folder", folder);
+        }));
+    }
+    std::filesystem::remove(path);
+    return {median(plain), median(durable)};
 }
 
 // ---- OpenVDB
@@ -261,6 +318,7 @@ int main(int argc, char** argv) {
     openvdb::initialize();
     const std::string ourPath = (dir / "vdb_bench_io_ours.vdb").string();
     const std::string theirPath = (dir / "vdb_bench_io_openvdb.vdb").string();
+    const std::string floorPath = (dir / "vdb_bench_io_floor.vdb").string();
 
     std::printf(
         "# vdb_bench_io: medians of %d runs; times in ms, sizes in MiB; "
@@ -270,10 +328,10 @@ int main(int argc, char** argv) {
                 "ratio");
     bool ok = true;
     vdb::bench::MarkdownReport report;
-    std::vector<vdb::bench::MarkdownReport::Row> rows, memoryRows;
+    std::vector<vdb::bench::MarkdownReport::Row> rows, memoryRows, floorRows;
     std::vector<std::string> inputs, wrongCounts;
     std::string memorySetting;  // the setting whose reads the memory table shows
-    vdb::bench::RatioRange readRatios, writeRatios;
+    vdb::bench::RatioRange readRatios, writeRatios, oursOverFloor, theirsOverFloor;
     bool sizesNoLarger = true;
     double maxSizeRatio = 0.0;
     for (const int res : resolutions) {
@@ -293,6 +351,7 @@ int main(int argc, char** argv) {
             const Setting s = settingNamed(name);
             const Result a = measureOurs(*ours, s, ourPath, reps);
             const Result b = measureTheirs(*theirs, s, theirPath, reps);
+            const WriteFloor floor = measureWriteFloor(floorPath, a.fileBytes, reps);
             ok = ok && a.ok && b.ok;
             const auto row = [&](const char* what, double x, double y) {
                 std::printf("%5d %-6s %-9s %10.2f %10.2f %6.2f\n", res, name.c_str(), what, x, y,
@@ -300,6 +359,8 @@ int main(int argc, char** argv) {
             };
             row("size", mib(a.fileBytes), mib(b.fileBytes));
             row("write", a.writeMs, b.writeMs);
+            std::printf("%5d %-6s %-9s %10.2f %10.2f %6s  (durable / plain)\n", res, name.c_str(),
+                        "floor", floor.durableMs, floor.plainMs, "");
             row("read", a.eagerMs, b.eagerMs);
             row("delayed", a.delayedMs, b.delayedMs);
             row("mem", mib(a.eagerMem), mib(b.eagerMem));
@@ -325,6 +386,12 @@ int main(int argc, char** argv) {
             readRatios.add(a.eagerMs / b.eagerMs);
             readRatios.add(a.delayedMs / b.delayedMs);
             writeRatios.add(a.writeMs / b.writeMs);
+            oursOverFloor.add(a.writeMs / floor.durableMs);
+            theirsOverFloor.add(b.writeMs / floor.plainMs);
+            floorRows.push_back(
+                {firstOfRes ? std::to_string(res) : "", name, fmt(mib(a.fileBytes), 2),
+                 fmt(a.writeMs, 1), fmt(floor.durableMs, 1), fmt(a.writeMs / floor.durableMs, 2),
+                 fmt(b.writeMs, 1), fmt(floor.plainMs, 1), fmt(b.writeMs / floor.plainMs, 2)});
             // res and setting head only the first row of their group.
             bool firstOfSetting = true;
             const auto mdRow = [&](const char* what, const std::string& x, const std::string& y,
@@ -358,6 +425,18 @@ int main(int argc, char** argv) {
                          "write 0.7, read 0.8).");
         report.table({"res", "setting", "measure", "vdb", "OpenVDB", "ratio"}, rows);
         report.paragraph(
+            "**Floors of the writes.** The bytes of this library's file written with plain "
+            "`write()` calls, medians of " +
+            std::to_string(reps) +
+            ": durably, as this library writes (a new file in the same folder, `fsync`, "
+            "`rename` over the old file, `fsync` of the folder), and over the old file with no "
+            "sync, as OpenVDB writes. Times in ms; each library's write over the floor of its "
+            "own way of writing:");
+        report.table(
+            {"res", "setting", "file (MiB)", "vdb write", "durable floor", "vdb / durable floor",
+             "OpenVDB write", "plain floor", "OpenVDB / plain floor"},
+            floorRows);
+        report.paragraph(
             "**Memory (Table IV).** `memUsage()` of the grid read eager / delayed " +
             (memorySetting.empty() ? std::string() : "with setting `" + memorySetting + "`") +
             ", in MiB:");
@@ -370,6 +449,8 @@ int main(int argc, char** argv) {
         report.status(sizes);
         report.status(readRatios.status("read", kReadTarget));
         report.status(writeRatios.status("write", kWriteTarget));
+        report.status("write / its floor: vdb " + oursOverFloor.text() + ", OpenVDB " +
+                      theirsOverFloor.text());
         if (!wrongCounts.empty()) {
             std::string where;
             for (const std::string& text : wrongCounts)

@@ -28,12 +28,20 @@
 // start and keeps that velocity for the whole step, so where Enright's field vanishes
 // (t = 1.5) it takes a few long steps; intervals bound every step of both libraries alike.
 //
+// The floor of a step: the same arithmetic in a plain loop, with no tree and no band to keep.
+// A dense block with as many voxels as the band (plus a halo of 3) goes through the step's six
+// stages (three of TVD-RK3 advection with a constant velocity, three of renormalisation), each
+// stage the HJ-WENO5 differences of every voxel along its three axes (math::weno5, six per
+// voxel) and its update (upwind advection, or Godunov's norm and the sign-weighted step), in
+// loops along z that the compiler vectorizes, threaded over x like the step.
+//
 // With --markdown FILE the program also writes its results as Markdown tables to FILE and one
 // overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
 //
 // Usage: vdb_bench_levelset [--res 256,512,1024] [--reps 3] [--threads 1,all] [--enright 0]
 //                           [--enright-frames 0] [--markdown FILE]
 
+#include <vdb/math/FiniteDifference.h>
 #include <vdb/tools/EnrightTest.h>
 #include <vdb/tools/LevelSetAdvect.h>
 #include <vdb/tools/SignedFloodFill.h>
@@ -45,12 +53,15 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/LevelSetAdvect.h>
 #include <openvdb/tools/SignedFloodFill.h>
+#include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <time.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -187,6 +198,81 @@ Timing timeStep(const typename Lib::GridType& input, int reps) {
 }
 
 /// The largest |a - b| over the voxels active in either grid.
+/// The floor of one step over `voxels` band voxels (see the file comment): the median of `reps`
+/// runs, in milliseconds, with the threads tbb may use.
+double stepFloorMs(uint64_t voxels, int reps) {
+    const int n = int(std::ceil(std::cbrt(double(voxels)))) + 6;  // the block with its halo
+    const size_t count = size_t(n) * size_t(n) * size_t(n);
+    std::vector<float> phi(count), next(count);
+    const auto at = [n](int i, int j, int k) {
+        return (size_t(i) * size_t(n) + size_t(j)) * size_t(n) + size_t(k);
+    };
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < n; ++k)  // a sphere's distance, in voxels
+                phi[at(i, j, k)] =
+                    std::sqrt(float((i - n / 2) * (i - n / 2) + (j - n / 2) * (j - n / 2) +
+                                    (k - n / 2) * (k - n / 2))) -
+                    float(n) / 3.0f;
+    next = phi;
+    const float dt = 0.3f, vx = 0.5f, vy = -0.25f, vz = 0.125f;
+    // One stage: the one-sided HJ-WENO5 derivatives of every interior voxel along its three axes,
+    // then the update.
+    const auto stage = [&](bool renormalise) {
+        tbb::parallel_for(tbb::blocked_range<int>(3, n - 3), [&](const tbb::blocked_range<int>& r) {
+            const size_t strides[3] = {size_t(n) * size_t(n), size_t(n), 1};
+            const size_t len = size_t(n);
+            std::vector<float> dm(3 * len), dp(3 * len);
+            for (int i = r.begin(); i < r.end(); ++i)
+                for (int j = 3; j < n - 3; ++j) {
+                    const float* row = phi.data() + at(i, j, 0);
+                    // The derivatives of the row along each axis, one loop per axis over z.
+                    for (int a = 0; a < 3; ++a) {
+                        const size_t s = strides[a];
+                        float* m = dm.data() + size_t(a) * len;
+                        float* p = dp.data() + size_t(a) * len;
+                        for (int k = 3; k < n - 3; ++k) {
+                            const float* c = row + k;
+                            const float line[7] = {c[-3 * ptrdiff_t(s)],
+                                                   c[-2 * ptrdiff_t(s)],
+                                                   c[-ptrdiff_t(s)],
+                                                   c[0],
+                                                   c[s],
+                                                   c[2 * s],
+                                                   c[3 * s]};
+                            vdb::math::biasedDifferences<vdb::math::HJWENO5_BIAS>(line, m[k], p[k]);
+                        }
+                    }
+                    float* out = next.data() + at(i, j, 0);
+                    const float *mx = dm.data(), *my = mx + len, *mz = my + len;
+                    const float *px = dp.data(), *py = px + len, *pz = py + len;
+                    for (int k = 3; k < n - 3; ++k) {
+                        const float v = row[k];
+                        if (renormalise) {
+                            const float g2 = vdb::math::godunovNormSqrd(v > 0.0f, mx[k], px[k],
+                                                                        my[k], py[k], mz[k], pz[k]);
+                            const float sign = v / std::sqrt(v * v + g2);
+                            out[k] = v - dt * sign * (std::sqrt(g2) - 1.0f);
+                        } else {
+                            out[k] = v - dt * (vx * vdb::math::upwind(vx, mx[k], px[k]) +
+                                               vy * vdb::math::upwind(vy, my[k], py[k]) +
+                                               vz * vdb::math::upwind(vz, mz[k], pz[k]));
+                        }
+                    }
+                }
+        });
+        phi.swap(next);
+    };
+    std::vector<double> ms;
+    for (int r = 0; r < reps; ++r) {
+        const auto start = Clock::now();
+        for (int s = 0; s < 6; ++s)
+            stage(s >= 3);
+        ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+    }
+    return median(ms);
+}
+
 double maxDifference(const vdb::FloatGrid& a, const vdb::FloatGrid& b) {
     double worst = 0.0;
     auto accA = a.getConstAccessor();
@@ -333,15 +419,16 @@ int main(int argc, char** argv) {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             const Timing a = timeStep<Vdb>(*ours, reps);
             const Timing b = timeStep<OpenVdb>(*theirs, reps);
+            const double floorMs = stepFloorMs(Vdb::activeVoxels(*ours), reps);
             const double diffVoxels = maxDifference(*a.result, *b.result) * res;
             std::printf(
                 "%5d %10llu %7d %9.1f %9.1f %6.2f %9.1f %9.1f %6.2f  steps %zu/%zu, active "
-                "after %llu/%llu, max |vdb - openvdb| %.2g voxels\n",
+                "after %llu/%llu, max |vdb - openvdb| %.2g voxels; floor %.1f ms\n",
                 res, (unsigned long long)Vdb::activeVoxels(*ours), n, a.medianMs, b.medianMs,
                 a.medianMs / b.medianMs, a.medianCpuMs, b.medianCpuMs,
                 a.medianCpuMs / b.medianCpuMs, a.steps, b.steps,
                 (unsigned long long)a.result->activeVoxelCount(),
-                (unsigned long long)b.result->activeVoxelCount(), diffVoxels);
+                (unsigned long long)b.result->activeVoxelCount(), diffVoxels, floorMs);
             std::fflush(stdout);
             agreement.add(a, b, diffVoxels);
             wallRatios.add(a.medianMs / b.medianMs);
@@ -350,7 +437,8 @@ int main(int argc, char** argv) {
                                 std::to_string(n), msText(a.medianMs), msText(b.medianMs),
                                 vdb::bench::ratioCell(a.medianMs / b.medianMs, kTarget),
                                 msText(a.medianCpuMs), msText(b.medianCpuMs),
-                                vdb::bench::ratioCell(a.medianCpuMs / b.medianCpuMs, kTarget)});
+                                vdb::bench::ratioCell(a.medianCpuMs / b.medianCpuMs, kTarget),
+                                msText(floorMs), fmt(a.medianMs / floorMs, 1)});
         }
         if (!threads.empty())
             agreementRows.push_back(agreement.row());
@@ -361,8 +449,13 @@ int main(int argc, char** argv) {
                      "of 0.8; " +
                      std::to_string(cores) + " hardware threads.");
     report.table({"R", "active voxels", "threads", "vdb ms", "OpenVDB ms", "ratio", "vdb CPU ms",
-                  "OpenVDB CPU ms", "CPU ratio"},
+                  "OpenVDB CPU ms", "CPU ratio", "floor ms", "vdb / floor"},
                  stepRows);
+    report.paragraph(
+        "Floor: the step's arithmetic in a plain loop, with no tree and no band to keep: a dense "
+        "block with as many voxels as the band goes through the six stages (three of TVD-RK3 "
+        "advection with a constant velocity, three of renormalisation), each the HJ-WENO5 "
+        "differences of every voxel along three axes and its update, threaded like the step.");
     report.paragraph(
         "**Agreement** of the two results after the step, worst over the runs of each R: steps "
         "taken, active voxels, and the largest value difference over the voxels active in "

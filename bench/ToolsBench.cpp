@@ -29,6 +29,12 @@
 // times longer in a run after the smaller resolutions than alone, from some 18,000 extra brk()
 // calls, depending on the heap that earlier measurements left.
 //
+// The floor of each measurement is the time to copy its result's leaf bytes (the values and
+// the value mask of every leaf) once with memcpy between two buffers already in memory: the
+// memory traffic of writing the whole result. It bounds the copy forms and the flood fill from
+// below; dilation, erosion and in-place CSG change masks and some leaves only, so for them it is
+// a reference, not a bound.
+//
 // With --markdown FILE the program also writes its results as Markdown tables to FILE and one
 // overview line to FILE.status, for docs/BENCHMARKS.md (scripts/bench).
 //
@@ -54,7 +60,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -245,6 +253,26 @@ Timing timeOp(const TreeT& a, const TreeT* b, int reps, Op op) {
     return timing;
 }
 
+/// The median time of copying `leaves` leaves' values and value masks once with memcpy, between
+/// two buffers touched beforehand; memoised, since every operation at one resolution asks.
+double copyFloorMs(uint64_t leaves, int reps) {
+    static std::map<uint64_t, double> known;
+    if (const auto it = known.find(leaves); it != known.end())
+        return it->second;
+    using LeafT = vdb::FloatTree::LeafNodeType;
+    const size_t bytes =
+        size_t(leaves) * (sizeof(float) * LeafT::NUM_VALUES + LeafT::NUM_VALUES / 8);
+    std::vector<char> from(bytes, 1), to(bytes, 2);
+    std::vector<double> ms;
+    for (int r = 0; r < reps; ++r) {
+        const auto start = Clock::now();
+        std::memcpy(to.data(), from.data(), bytes);
+        ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+        from[size_t(r) % bytes] = to[bytes / 2];  // the copies are not dead stores
+    }
+    return known[leaves] = median(ms);
+}
+
 /// Naive dilation by one: list the active voxels, then activate each one's six face
 /// neighbours through an accessor, one random insertion at a time.
 template <typename Lib>
@@ -334,6 +362,7 @@ struct Measurement {
     int res = 0;
     int threads = 0;
     Timing ours, theirs;
+    double floorMs = 0;  // copyFloorMs() of our result's leaves
 };
 
 /// The operation's name in the report, and the group of its overview range ("" for the
@@ -390,7 +419,8 @@ vdb::bench::MarkdownReport report(const std::vector<Measurement>& measured,
         }
         rows.push_back({newOp ? name : "", std::to_string(m.res), std::to_string(m.threads),
                         fmt(m.ours.medianMs, 2), fmt(m.theirs.medianMs, 2),
-                        vdb::bench::ratioCell(ratio, kGoodRatio), result});
+                        vdb::bench::ratioCell(ratio, kGoodRatio), fmt(m.floorMs, 2),
+                        fmt(m.ours.medianMs / m.floorMs, 1), result});
         if (group.empty())
             continue;
         all.add(ratio);
@@ -423,9 +453,15 @@ vdb::bench::MarkdownReport report(const std::vector<Measurement>& measured,
                   "The machine has %d hardware threads.",
                   protocol.c_str(), kGoodRatio, cores);
     md.paragraph(line);
-    md.table(
-        {"operation", "res", "threads", "vdb ms", "OpenVDB ms", "ratio", "active voxels after"},
-        rows);
+    md.table({"operation", "res", "threads", "vdb ms", "OpenVDB ms", "ratio", "floor ms",
+              "vdb / floor", "active voxels after"},
+             rows);
+    md.paragraph(
+        "Floor: the time to copy the result's leaf bytes (every leaf's values and value mask) "
+        "once with `memcpy` between two buffers already in memory, the memory traffic of "
+        "writing the whole result. It bounds the copy forms and the flood fill from below; "
+        "dilation, erosion and in-place CSG change masks and some leaves only, so for them it "
+        "is a reference, not a bound.");
     if (differ)
         md.paragraph(
             "**The libraries' results differ where marked (active voxels vdb / OpenVDB).**");
@@ -515,7 +551,7 @@ int main(int argc, char** argv) {
                 const Timing b = run<OpenVdb>(op, theirs, reps);
                 const bool match = sameResult(op, a.outcome, b.outcome);
                 allMatch = allMatch && match;
-                measured.push_back({op, res, n, a, b});
+                measured.push_back({op, res, n, a, b, copyFloorMs(a.outcome.leaves, reps)});
                 std::printf("%-13s %5d %7d %12.2f %12.2f %6.2f  %s (%llu active, %llu leaves)\n",
                             op.c_str(), res, n, a.medianMs, b.medianMs, a.medianMs / b.medianMs,
                             match ? "same" : "DIFFERENT",
