@@ -257,6 +257,8 @@ Timing timeOp(const TreeT& a, const TreeT* b, int reps, Op op) {
 /// two buffers touched beforehand; memoised, since every operation at one resolution asks.
 double copyFloorMs(uint64_t leaves, int reps) {
     static std::map<uint64_t, double> known;
+    if (leaves == 0)
+        return 0.0;
     if (const auto it = known.find(leaves); it != known.end())
         return it->second;
     using LeafT = vdb::FloatTree::LeafNodeType;
@@ -420,7 +422,7 @@ vdb::bench::MarkdownReport report(const std::vector<Measurement>& measured,
         rows.push_back({newOp ? name : "", std::to_string(m.res), std::to_string(m.threads),
                         fmt(m.ours.medianMs, 2), fmt(m.theirs.medianMs, 2),
                         vdb::bench::ratioCell(ratio, kGoodRatio), fmt(m.floorMs, 2),
-                        fmt(m.ours.medianMs / m.floorMs, 1), result});
+                        m.floorMs > 0.0 ? fmt(m.ours.medianMs / m.floorMs, 1) : "n/a", result});
         if (group.empty())
             continue;
         all.add(ratio);
