@@ -101,10 +101,12 @@ void addConvertCommand(CLI::App& app, Context& ctx) {
             }
             json.endArray();
             writeOutput(report, a.out, grids);
-            std::error_code ec;
-            const auto in = std::filesystem::file_size(a.input, ec);
-            const auto out = std::filesystem::file_size(a.out.path, ec);
-            report.note("  " + bytesText(in) + " -> " + bytesText(out));
+            // file_size() fails for a device or a FIFO: no sizes then.
+            std::error_code inError, outError;
+            const auto in = std::filesystem::file_size(a.input, inError);
+            const auto out = std::filesystem::file_size(a.out.path, outError);
+            if (!inError && !outError)
+                report.note("  " + bytesText(double(in)) + " -> " + bytesText(double(out)));
             report.finish();
         });
     cmd->add_option("input", args->input, "The .vdb file to read")->required();

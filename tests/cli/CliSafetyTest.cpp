@@ -85,6 +85,10 @@ TEST_F(CliSafety, DevNullIsWrittenNotReplaced) {
     struct stat st {};
     ASSERT_EQ(::stat("/dev/null", &st), 0);
     EXPECT_TRUE(S_ISCHR(st.st_mode)) << "/dev/null is no longer a device";
+    // A device has no size to report (it once printed "-> 1.8e+19 B").
+    const Result r = run({"convert", path("s.vdb"), "-o", "/dev/null"});
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ((r.out + r.err).find(" -> "), std::string::npos) << r.out << r.err;
 }
 
 TEST_F(CliSafety, DeviceNodeInAFolderIsWrittenInPlace) {
