@@ -14,14 +14,18 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -175,29 +179,112 @@ inline void keepHeapOnFree() {
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
 }
 
-/// Parses `s` as a whole number in [1, 65536] into `value`; false when it is not one.
-inline bool parsePositive(const std::string& s, int& value) {
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v < 1 || v > 1 << 16)
-        return false;
-    value = int(v);
-    return true;
-}
+/// The command line of a benchmark program: `--name value` pairs, each declared with where
+/// its value goes. An unknown name, a missing value or a value out of range prints the
+/// problem and the usage line on stderr and exits with status 2.
+///
+/// @code
+/// vdb::bench::Options options("vdb_bench_x [--res 512,1024] [--reps 5] [--markdown FILE]");
+/// options.numbers("--res", resolutions).number("--reps", reps).text("--markdown", path);
+/// options.parse(argc, argv);
+/// @endcode
+class Options {
+public:
+    using Handler = std::function<void(const std::string&)>;
 
-/// Prints `message` and then "usage: " and `usageLine` on stderr, and exits with status 2.
-[[noreturn]] inline void usageExit(const std::string& message, const char* usageLine) {
-    std::fprintf(stderr, "%s\nusage: %s\n", message.c_str(), usageLine);
-    std::exit(2);
-}
+    explicit Options(std::string usageLine) : mUsage(std::move(usageLine)) {}
 
-/// parsePositive(), or usageExit() naming `what` and the bad text.
-inline int positiveOrExit(const std::string& s, const char* what, const char* usageLine) {
-    int value = 0;
-    if (!parsePositive(s, value))
-        usageExit(std::string("bad ") + what + " '" + s + "'", usageLine);
-    return value;
-}
+    /// `name VALUE`, handed to `f`.
+    Options& on(const std::string& name, Handler f) {
+        mHandlers[name] = std::move(f);
+        return *this;
+    }
+    /// `name TEXT`.
+    Options& text(const std::string& name, std::string& out) {
+        return on(name, [&out](const std::string& v) { out = v; });
+    }
+    /// `name A,B,...`; "none" for no items.
+    Options& list(const std::string& name, std::vector<std::string>& out) {
+        return on(name, [&out](const std::string& v) {
+            out = v == "none" ? std::vector<std::string>{} : splitList(v);
+        });
+    }
+    /// `name N`, a whole number in [lo, hi].
+    Options& number(const std::string& name, int& out, long lo = 1, long hi = 1 << 16) {
+        return on(name, [this, &out, name, lo, hi](const std::string& v) {
+            out = int(toNumber(v, name.c_str(), lo, hi));
+        });
+    }
+    /// `name N,M,...`, at least one whole number in [1, 65536].
+    Options& numbers(const std::string& name, std::vector<int>& out) {
+        return on(name, [this, &out, name](const std::string& v) {
+            out.clear();
+            for (const std::string& item : splitList(v))
+                out.push_back(int(toNumber(item, name.c_str())));
+            if (out.empty())
+                fail(name + " needs at least one number");
+        });
+    }
+    /// `name WxH`.
+    Options& size(const std::string& name, size_t& width, size_t& height) {
+        return on(name, [this, &width, &height, name](const std::string& v) {
+            const auto wh = splitList(v, 'x');
+            if (wh.size() != 2)
+                fail(name + " takes WxH, not '" + v + "'");
+            width = size_t(toNumber(wh[0], "width"));
+            height = size_t(toNumber(wh[1], "height"));
+        });
+    }
+
+    /// Reads `argv`. Arguments that are not declared options go to `rest`, in order, when it
+    /// is given (for a library that reads its own flags); otherwise they are an error.
+    void parse(int argc, char** argv, std::vector<char*>* rest = nullptr) const {
+        for (int i = 1; i < argc; ++i) {
+            const std::string arg = argv[i];
+            const size_t eq = arg.find('=');
+            const auto handler = mHandlers.find(arg.substr(0, eq));
+            if (handler == mHandlers.end()) {
+                if (!rest)
+                    fail("unknown argument " + arg);
+                rest->push_back(argv[i]);
+            } else if (eq != std::string::npos) {
+                handler->second(arg.substr(eq + 1));
+            } else if (i + 1 < argc) {
+                handler->second(argv[++i]);
+            } else {
+                fail("missing value after " + arg);
+            }
+        }
+    }
+
+    /// `s` as a whole number in [lo, hi], or fail() naming `what`.
+    long toNumber(const std::string& s, const char* what, long lo = 1, long hi = 1 << 16) const {
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(s.c_str(), &end, 10);
+        if (s.empty() || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+            fail(std::string("bad ") + what + " '" + s + "': a whole number from " +
+                 std::to_string(lo) + " to " + std::to_string(hi));
+        return v;
+    }
+
+    /// An item of a `--threads` list: a thread count, or "all" for every hardware thread.
+    int threadCount(const std::string& s) const {
+        if (s == "all")
+            return int(std::max(1u, std::thread::hardware_concurrency()));
+        return int(toNumber(s, "thread count"));
+    }
+
+    /// Prints `message` and the usage line on stderr and exits with status 2.
+    [[noreturn]] void fail(const std::string& message) const {
+        std::fprintf(stderr, "%s\nusage: %s\n", message.c_str(), mUsage.c_str());
+        std::exit(2);
+    }
+
+private:
+    std::string mUsage;
+    std::map<std::string, Handler> mHandlers;
+};
 
 /// The median of `values` (the mean of the two middle ones for an even count); 0 when empty.
 inline double median(std::vector<double> values) {

@@ -45,24 +45,9 @@
 namespace {
 
 using vdb::bench::fmt;
-using vdb::bench::splitList;
 
 /// The target: at most 0.8 times OpenVDB's time.
 constexpr double kTarget = 0.8;
-
-constexpr const char* kUsage =
-    "usage: vdb_bench_fastsweep [--res 256,512] [--dilation 10] [--reps 5] [--threads 1,2] "
-    "[--markdown FILE]";
-
-/// The value of a whole-number option, or exit with status 2 naming the option.
-int wholeNumber(const std::string& option, const std::string& value) {
-    int n = 0;
-    if (vdb::bench::parsePositive(value, n))
-        return n;
-    std::fprintf(stderr, "%s needs a whole number from 1, not '%s'\n%s\n", option.c_str(),
-                 value.c_str(), kUsage);
-    std::exit(2);
-}
 
 /// One row of the report table. Not inlined: GCC 12, inlining fmt() into main, warns of an
 /// impossible overlap in its string copies (-Wrestrict).
@@ -110,25 +95,20 @@ Runs timeRuns(int reps, const std::function<uint64_t()>& op) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::vector<std::string> resolutions{"256", "512"};
+    std::vector<int> resolutions{256, 512};
     std::vector<std::string> threads{"1", "2"};
     int dilation = 10;
     int reps = 5;
     std::string markdownPath;
-    const std::map<std::string, std::function<void(const std::string&)>> options{
-        {"--res", [&](const std::string& v) { resolutions = splitList(v); }},
-        {"--threads", [&](const std::string& v) { threads = splitList(v); }},
-        {"--dilation", [&](const std::string& v) { dilation = wholeNumber("--dilation", v); }},
-        {"--reps", [&](const std::string& v) { reps = wholeNumber("--reps", v); }},
-        {"--markdown", [&](const std::string& v) { markdownPath = v; }}};
-    for (int i = 1; i < argc; i += 2) {
-        const auto option = options.find(argv[i]);
-        if (option == options.end() || i + 1 >= argc) {
-            std::fprintf(stderr, "bad or incomplete option '%s'\n%s\n", argv[i], kUsage);
-            return 2;
-        }
-        option->second(argv[i + 1]);
-    }
+    vdb::bench::Options options(
+        "vdb_bench_fastsweep [--res 256,512] [--dilation 10] [--reps 5] "
+        "[--threads 1,2] [--markdown FILE]");
+    options.numbers("--res", resolutions)
+        .list("--threads", threads)
+        .number("--dilation", dilation)
+        .number("--reps", reps)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     openvdb::initialize();
     vdb::bench::keepHeapOnFree();
@@ -139,8 +119,7 @@ int main(int argc, char** argv) {
     std::vector<vdb::bench::MarkdownReport::Row> rows;
     vdb::bench::RatioRange fogRatios, dilateRatios;
     const std::string dilateName = "dilateSdf(" + std::to_string(dilation) + ")";
-    for (const std::string& r : resolutions) {
-        const int res = wholeNumber("--res", r);
+    for (const int res : resolutions) {
         const double dx = 1.0 / res;
         const auto ours =
             vdb::tools::createLevelSetSphere<vdb::FloatGrid>(0.15, vdb::Vec3d(0.35), dx, 3.0);
@@ -172,7 +151,7 @@ int main(int argc, char** argv) {
         bool firstOfInput = true;
         for (const Op& op : ops) {
             for (const std::string& t : threads) {
-                const int n = t == "all" ? cores : wholeNumber("--threads", t);
+                const int n = options.threadCount(t);
                 tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
                 const Runs a = timeRuns(reps, op.ours);
                 const Runs b = timeRuns(reps, op.theirs);

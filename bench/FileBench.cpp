@@ -243,23 +243,6 @@ Result measureTheirs(openvdb::FloatGrid& input, const Setting& s, const std::str
 
 // ---- Command line
 
-using vdb::bench::splitList;
-
-[[noreturn]] void usage(const std::string& message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_io [--res 512,1024,2048] [--reps 5] "
-                 "[--settings mask,zip,blosc,half] [--dir /tmp] [--markdown FILE]\n",
-                 message.c_str());
-    std::exit(2);
-}
-
-int parsePositive(const std::string& s, const char* what) {
-    int v = 0;
-    if (!vdb::bench::parsePositive(s, v))
-        usage(std::string("bad ") + what + " '" + s + "'");
-    return v;
-}
-
 double mib(uint64_t bytes) {
     return double(bytes) / (1024.0 * 1024.0);
 }
@@ -292,33 +275,22 @@ int main(int argc, char** argv) {
     std::vector<int> resolutions{512, 1024, 2048};
     int reps = 5;
     std::vector<std::string> settings{"mask", "zip", "blosc", "half"};
-    std::filesystem::path dir = std::filesystem::temp_directory_path();
+    std::string dir = std::filesystem::temp_directory_path().string();
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage("missing value after " + arg);
-        const std::string value = argv[++i];
-        if (arg == "--res") {
-            resolutions.clear();
-            for (const std::string& r : splitList(value))
-                resolutions.push_back(parsePositive(r, "resolution"));
-        } else if (arg == "--reps") {
-            reps = parsePositive(value, "repetition count");
-        } else if (arg == "--settings") {
-            settings = splitList(value);
-        } else if (arg == "--dir") {
-            dir = value;
-        } else if (arg == "--markdown") {
-            markdownPath = value;
-        } else {
-            usage("unknown argument " + arg);
-        }
-    }
+    vdb::bench::Options options(
+        "vdb_bench_io [--res 512,1024,2048] [--reps 5] "
+        "[--settings mask,zip,blosc,half] [--dir /tmp] [--markdown FILE]");
+    options.numbers("--res", resolutions)
+        .number("--reps", reps)
+        .list("--settings", settings)
+        .text("--dir", dir)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     openvdb::initialize();
-    const std::string ourPath = (dir / "vdb_bench_io_ours.vdb").string();
-    const std::string theirPath = (dir / "vdb_bench_io_openvdb.vdb").string();
-    const std::string floorPath = (dir / "vdb_bench_io_floor.vdb").string();
+    const std::string ourPath = (std::filesystem::path(dir) / "vdb_bench_io_ours.vdb").string();
+    const std::string theirPath =
+        (std::filesystem::path(dir) / "vdb_bench_io_openvdb.vdb").string();
+    const std::string floorPath = (std::filesystem::path(dir) / "vdb_bench_io_floor.vdb").string();
 
     std::printf(
         "# vdb_bench_io: medians of %d runs; times in ms, sizes in MiB; "

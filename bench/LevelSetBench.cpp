@@ -303,25 +303,6 @@ vdb::FloatGrid::Ptr fullPeriod(const typename Lib::GridType& input, int interval
     }
 }
 
-using vdb::bench::splitList;
-
-[[noreturn]] void usage(const std::string& message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_levelset [--res 256,512,1024] [--reps 3] "
-                 "[--threads 1,all] [--enright 0] [--enright-frames 0] [--markdown FILE]\n",
-                 message.c_str());
-    std::exit(2);
-}
-
-/// Parses a whole number in [0, 65536] (0 turns --enright off); exits with the usage otherwise.
-int positive(const std::string& s) {
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v < 0 || v > 1 << 16)
-        usage("bad number '" + s + "'");
-    return int(v);
-}
-
 // ---- Markdown report ----
 
 using vdb::bench::fmt;
@@ -372,29 +353,18 @@ int main(int argc, char** argv) {
     std::vector<std::string> threads{"1", "all"};
     int reps = 3, enright = 0, enrightFrames = 0;
     std::string markdownPath;
-    for (int i = 1; i < argc; i += 2) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage("missing value after " + arg);
-        const std::string value = argv[i + 1];
-        if (arg == "--res") {
-            resolutions.clear();
-            for (const std::string& r : splitList(value))
-                resolutions.push_back(positive(r));
-        } else if (arg == "--reps") {
-            reps = std::max(1, positive(value));
-        } else if (arg == "--threads") {
-            threads = splitList(value);
-        } else if (arg == "--enright") {
-            enright = positive(value);
-        } else if (arg == "--enright-frames") {
-            enrightFrames = positive(value);
-        } else if (arg == "--markdown") {
-            markdownPath = value;
-        } else {
-            usage("unknown argument " + arg);
-        }
-    }
+    vdb::bench::Options options(
+        "vdb_bench_levelset [--res 256,512,1024] [--reps 3] "
+        "[--threads 1,all] [--enright 0] [--enright-frames 0] "
+        "[--markdown FILE]");
+    // --enright 0 and --enright-frames 0 turn the Enright runs off.
+    options.numbers("--res", resolutions)
+        .number("--reps", reps)
+        .list("--threads", threads)
+        .number("--enright", enright, 0)
+        .number("--enright-frames", enrightFrames, 0)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     openvdb::initialize();
 
@@ -415,7 +385,7 @@ int main(int argc, char** argv) {
         Agreement agreement;
         agreement.res = res;
         for (const std::string& t : threads) {
-            const int n = t == "all" ? cores : positive(t);
+            const int n = options.threadCount(t);
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             const Timing a = timeStep<Vdb>(*ours, reps);
             const Timing b = timeStep<OpenVdb>(*theirs, reps);

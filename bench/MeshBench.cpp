@@ -199,23 +199,6 @@ uint64_t openvdbParticles(const OpenVdbParticles& spheres, int res) {
 
 using vdb::bench::splitList;
 
-[[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_mesh [--cases shape:res:triangles,wuson:res,...] "
-                 "[--particles res:count,...] [--reps 3] [--threads 1,all] "
-                 "[--markdown FILE]\n",
-                 message);
-    std::exit(2);
-}
-
-long parsePositive(const std::string& s, const char* what) {
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0' || v < 1)
-        usage((std::string("bad ") + what + " '" + s + "'").c_str());
-    return v;
-}
-
 void printRow(const char* what, const std::string& input, int res, int threads, double ours,
               double theirs, uint64_t activeOurs, uint64_t activeTheirs) {
     std::printf("%-9s %-24s %5d %7d %10.1f %10.1f %6.2f  %llu / %llu active\n", what, input.c_str(),
@@ -297,25 +280,17 @@ int main(int argc, char** argv) {
     int reps = 3;
     std::vector<std::string> threads{"1", "all"};
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage(("missing value after " + arg).c_str());
-        const std::string value = argv[++i];
-        if (arg == "--cases") {
-            cases = value == "none" ? std::vector<std::string>{} : splitList(value);
-        } else if (arg == "--particles") {
-            particles = value == "none" ? std::vector<std::string>{} : splitList(value);
-        } else if (arg == "--reps") {
-            reps = int(parsePositive(value, "repetition count"));
-        } else if (arg == "--threads") {
-            threads = splitList(value);
-        } else if (arg == "--markdown") {
-            markdownPath = value;
-        } else {
-            usage(("unknown argument " + arg).c_str());
-        }
-    }
+    vdb::bench::Options options(
+        "vdb_bench_mesh [--cases shape:res:triangles,wuson:res,...] "
+        "[--particles res:count,...] [--reps 3] [--threads 1,all] "
+        "[--markdown FILE]");
+    options.list("--cases", cases)
+        .list("--particles", particles)
+        .number("--reps", reps)
+        .list("--threads", threads)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
+    constexpr long MANY = std::numeric_limits<int>::max();
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     openvdb::initialize();
     std::printf("# vdb_bench_mesh: medians of %d runs, milliseconds; ratio = vdb / openvdb\n",
@@ -327,10 +302,10 @@ int main(int argc, char** argv) {
     for (const std::string& c : cases) {
         const auto parts = splitList(c, ':');
         if (parts.size() != (parts.empty() || !isModel(parts[0]) ? 3u : 2u))
-            usage(("bad case " + c).c_str());
-        const int res = int(parsePositive(parts[1], "resolution"));
-        const auto mesh =
-            makeMesh(parts[0], parts.size() > 2 ? int(parsePositive(parts[2], "triangles")) : 0);
+            options.fail("bad case " + c);
+        const int res = int(options.toNumber(parts[1], "resolution"));
+        const auto mesh = makeMesh(
+            parts[0], parts.size() > 2 ? int(options.toNumber(parts[2], "triangles", 1, MANY)) : 0);
         const double voxelSize = voxelSizeFor(mesh, res);
         const OpenVdbMesh theirMesh(mesh);
         const size_t triangles = mesh.triangles.size() + 2 * mesh.quads.size();
@@ -341,7 +316,7 @@ int main(int argc, char** argv) {
         CaseRows caseRows("mesh", name + ", " + fmt(double(triangles), 0) + " triangles",
                           signsOf(mesh, voxelSizeFor(mesh, 64)), res);
         for (const std::string& t : threads) {
-            const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
+            const int n = options.threadCount(t);
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             uint64_t a = 0, b = 0;
             const double ours = timeMs(
@@ -356,9 +331,9 @@ int main(int argc, char** argv) {
     for (const std::string& c : particles) {
         const auto parts = splitList(c, ':');
         if (parts.size() != 2)
-            usage(("bad particle case " + c).c_str());
-        const int res = int(parsePositive(parts[0], "resolution"));
-        const size_t count = size_t(parsePositive(parts[1], "particle count"));
+            options.fail("bad particle case " + c);
+        const int res = int(options.toNumber(parts[0], "resolution"));
+        const size_t count = size_t(options.toNumber(parts[1], "particle count", 1, MANY));
         const auto spheres = vdb::tools::torusKnotHelixSpheres(count);
         OpenVdbParticles theirs;
         for (size_t n = 0; n < count; ++n) {
@@ -369,7 +344,7 @@ int main(int argc, char** argv) {
         CaseRows caseRows("particles", "torus-knot-helix, " + countText(count) + " spheres", "",
                           res);
         for (const std::string& t : threads) {
-            const int n = t == "all" ? cores : int(parsePositive(t, "thread count"));
+            const int n = options.threadCount(t);
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             uint64_t a = 0, b = 0;
             const double ours = timeMs(

@@ -424,23 +424,6 @@ int writeScenes(const std::string& dir) {
 
 // ---- Command line ----
 
-[[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_render [--res 512,1024] [--size 1024x1024] [--reps 5] "
-                 "[--scenes sphere,torus,wuson|none] [--threads 1,all] [--markdown FILE] "
-                 "[--fog-samples DIR --vdb-tool PATH [--vdb-render PATH] [--fog-size WxH] "
-                 "[--fog-reps N] [--fog-pictures DIR]] [--write-scenes DIR]\n",
-                 message);
-    std::exit(2);
-}
-
-int parsePositive(const std::string& s, const char* what) {
-    int v = 0;
-    if (!vdb::bench::parsePositive(s, v))
-        usage((std::string("bad ") + what + " '" + s + "'").c_str());
-    return v;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -451,53 +434,25 @@ int main(int argc, char** argv) {
     std::string scenesDir, markdownPath;
     vdb::bench::FogToolOptions fog;
     fog.pictures = "fog-pictures";
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage(("missing value after " + arg).c_str());
-        const std::string value = argv[++i];
-        if (arg == "--res") {
-            resolutions.clear();
-            for (const std::string& r : vdb::bench::splitList(value))
-                resolutions.push_back(parsePositive(r, "resolution"));
-            if (resolutions.empty())
-                usage("--res needs at least one resolution");
-        } else if (arg == "--reps") {
-            reps = parsePositive(value, "repetition count");
-        } else if (arg == "--size") {
-            const auto wh = vdb::bench::splitList(value, 'x');
-            if (wh.size() != 2)
-                usage("--size takes WxH");
-            width = size_t(parsePositive(wh[0], "width"));
-            height = size_t(parsePositive(wh[1], "height"));
-        } else if (arg == "--scenes") {
-            scenes = value == "none" ? std::vector<std::string>{} : vdb::bench::splitList(value);
-        } else if (arg == "--threads") {
-            threads = vdb::bench::splitList(value);
-        } else if (arg == "--markdown") {
-            markdownPath = value;
-        } else if (arg == "--write-scenes") {
-            scenesDir = value;
-        } else if (arg == "--fog-samples") {
-            fog.samples = value;
-        } else if (arg == "--vdb-tool") {
-            fog.vdbTool = value;
-        } else if (arg == "--vdb-render") {
-            fog.vdbRender = value;
-        } else if (arg == "--fog-pictures") {
-            fog.pictures = value;
-        } else if (arg == "--fog-reps") {
-            fog.reps = parsePositive(value, "repetition count");
-        } else if (arg == "--fog-size") {
-            const auto wh = vdb::bench::splitList(value, 'x');
-            if (wh.size() != 2)
-                usage("--fog-size takes WxH");
-            fog.width = size_t(parsePositive(wh[0], "width"));
-            fog.height = size_t(parsePositive(wh[1], "height"));
-        } else {
-            usage(("unknown argument " + arg).c_str());
-        }
-    }
+    vdb::bench::Options options(
+        "vdb_bench_render [--res 512,1024] [--size 1024x1024] [--reps 5] "
+        "[--scenes sphere,torus,wuson|none] [--threads 1,all] [--markdown FILE] "
+        "[--fog-samples DIR --vdb-tool PATH [--vdb-render PATH] [--fog-size WxH] "
+        "[--fog-reps N] [--fog-pictures DIR]] [--write-scenes DIR]");
+    options.numbers("--res", resolutions)
+        .size("--size", width, height)
+        .number("--reps", reps)
+        .list("--scenes", scenes)
+        .list("--threads", threads)
+        .text("--markdown", markdownPath)
+        .text("--write-scenes", scenesDir)
+        .text("--fog-samples", fog.samples)
+        .text("--vdb-tool", fog.vdbTool)
+        .text("--vdb-render", fog.vdbRender)
+        .text("--fog-pictures", fog.pictures)
+        .number("--fog-reps", fog.reps)
+        .size("--fog-size", fog.width, fog.height);
+    options.parse(argc, argv);
     if (!scenesDir.empty()) {
         try {
             return writeScenes(scenesDir);
@@ -584,7 +539,7 @@ int main(int argc, char** argv) {
                     fmt(double(ours->activeVoxelCount()), 0) +
                     " active voxels) and copied into an OpenVDB grid.");
             } else {
-                usage(("unknown scene " + scene).c_str());
+                options.fail("unknown scene " + scene);
             }
             const double voxelSize = ours->voxelSize()[0];
             const vdb::BBoxd box =
@@ -593,7 +548,7 @@ int main(int argc, char** argv) {
             std::vector<Row> intersectionRows, rendererRows;
             std::string firstHits;
             for (const std::string& t : threads) {
-                const int n = t == "all" ? cores : parsePositive(t, "thread count");
+                const int n = options.threadCount(t);
                 tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
                 // The two libraries alternate, pass by pass, so that load from other processes on
                 // the machine falls on both alike.
@@ -676,7 +631,7 @@ int main(int argc, char** argv) {
     const bool fogRun = !fog.samples.empty();
     if (fogRun) {
         if (fog.vdbTool.empty())
-            usage("--fog-samples needs --vdb-tool");
+            options.fail("--fog-samples needs --vdb-tool");
         fogOk = vdb::bench::compareFogTools(fog, fogMd, fogRatios, kFogTarget);
     }
     std::printf("# machine: %u hardware threads\n", std::thread::hardware_concurrency());

@@ -56,13 +56,6 @@ using vdb::bench::splitList;
 /// The target of the issue: at most 0.8 times OpenVDB's time.
 constexpr double kTarget = 0.8;
 
-constexpr const char* kUsage =
-    "vdb_bench_resample [--res 1024] [--dense 512] [--reps 3] [--threads 1,2] [--markdown FILE]";
-
-int positive(const std::string& s, const char* what) {
-    return vdb::bench::positiveOrExit(s, what, kUsage);
-}
-
 /// The Enright sphere's band in both libraries (values in world units), as a level set signed
 /// by each library's flood fill, or as a fog volume of the same values.
 std::pair<vdb::FloatGrid::Ptr, openvdb::FloatGrid::Ptr> enright(int res, bool levelSet) {
@@ -143,24 +136,15 @@ int main(int argc, char** argv) {
     int res = 1024, dense = 512, reps = 3;
     std::vector<std::string> threads{"1", "2"};
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            vdb::bench::usageExit("missing value after " + arg, kUsage);
-        const std::string value = argv[++i];
-        if (arg == "--res")
-            res = positive(value, "resolution");
-        else if (arg == "--dense")
-            dense = positive(value, "dense size");
-        else if (arg == "--threads")
-            threads = splitList(value);
-        else if (arg == "--reps")
-            reps = positive(value, "repetition count");
-        else if (arg == "--markdown")
-            markdownPath = value;
-        else
-            vdb::bench::usageExit("unknown argument " + arg, kUsage);
-    }
+    vdb::bench::Options options(
+        "vdb_bench_resample [--res 1024] [--dense 512] [--reps 3] "
+        "[--threads 1,2] [--markdown FILE]");
+    options.number("--res", res)
+        .number("--dense", dense)
+        .list("--threads", threads)
+        .number("--reps", reps)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     openvdb::initialize();
     vdb::bench::keepHeapOnFree();
@@ -175,7 +159,7 @@ int main(int argc, char** argv) {
                          const std::function<uint64_t()>& theirs, vdb::bench::RatioRange& range) {
         bool first = true;
         for (const std::string& t : threads) {
-            const int n = t == "all" ? cores : positive(t, "thread count");
+            const int n = options.threadCount(t);
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             uint64_t countOurs = 0, countTheirs = 0;
             const double msOurs = medianMs(reps, ours, countOurs);

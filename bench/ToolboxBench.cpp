@@ -357,21 +357,6 @@ Timing run(const std::string& op, const Inputs<Lib>& in, int reps) {
 
 // ---- Command line ----
 
-[[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_toolbox [--res 512,1024] [--measure-res 1024] [--reps 3] "
-                 "[--ops ls-mean,...] [--threads 1,all] [--samples DIR] [--markdown FILE]\n",
-                 message);
-    std::exit(2);
-}
-
-int parsePositive(const std::string& s, const char* what) {
-    int v = 0;
-    if (!vdb::bench::parsePositive(s, v))
-        usage((std::string("bad ") + what + " '" + s + "'").c_str());
-    return v;
-}
-
 // ---- Markdown report ----
 
 using vdb::bench::fmt;
@@ -481,31 +466,18 @@ int main(int argc, char** argv) {
     std::vector<std::string> threads{"1", "all"};
     std::string samples = VDB_SAMPLES_DIR;
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage(("missing value after " + arg).c_str());
-        const std::string value = argv[++i];
-        if (arg == "--res") {
-            resolutions.clear();
-            for (const std::string& r : vdb::bench::splitList(value))
-                resolutions.push_back(parsePositive(r, "resolution"));
-        } else if (arg == "--measure-res") {
-            measureRes = parsePositive(value, "resolution");
-        } else if (arg == "--reps") {
-            reps = parsePositive(value, "repetition count");
-        } else if (arg == "--ops") {
-            ops = vdb::bench::splitList(value);
-        } else if (arg == "--threads") {
-            threads = vdb::bench::splitList(value);
-        } else if (arg == "--samples") {
-            samples = value;
-        } else if (arg == "--markdown") {
-            markdownPath = value;
-        } else {
-            usage(("unknown argument " + arg).c_str());
-        }
-    }
+    vdb::bench::Options options(
+        "vdb_bench_toolbox [--res 512,1024] [--measure-res 1024] "
+        "[--reps 3] [--ops ls-mean,...] [--threads 1,all] "
+        "[--samples DIR] [--markdown FILE]");
+    options.numbers("--res", resolutions)
+        .number("--measure-res", measureRes)
+        .number("--reps", reps)
+        .list("--ops", ops)
+        .list("--threads", threads)
+        .text("--samples", samples)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     openvdb::initialize();
 
@@ -536,7 +508,7 @@ int main(int argc, char** argv) {
     std::vector<Measurement> measured;
     const auto measure = [&](const std::string& op, const std::string& input) {
         for (const std::string& t : threads) {
-            const int n = t == "all" ? cores : parsePositive(t, "thread count");
+            const int n = options.threadCount(t);
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
             const Timing a = run<Vdb>(op, ours, reps);
             const Timing b = run<OpenVdb>(op, theirs, reps);

@@ -334,23 +334,6 @@ Timing run(const std::string& op, const Inputs<Lib>& in, int reps) {
 
 // ---- Command line ----
 
-[[noreturn]] void usage(const char* message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_tools [--res 512,1024,2048] [--reps 5] "
-                 "[--ops dilate,erode,brute,floodfill,union,intersection,difference,"
-                 "union-copy,intersection-copy,difference-copy] "
-                 "[--threads 1,all] [--markdown FILE]\n",
-                 message);
-    std::exit(2);
-}
-
-int parsePositive(const std::string& s, const char* what) {
-    int v = 0;
-    if (!vdb::bench::parsePositive(s, v))
-        usage((std::string("bad ") + what + " '" + s + "'").c_str());
-    return v;
-}
-
 // ---- Markdown report ----
 
 using vdb::bench::fmt;
@@ -506,27 +489,16 @@ int main(int argc, char** argv) {
         "intersection", "difference", "union-copy", "intersection-copy", "difference-copy"};
     std::vector<std::string> threads{"1", "all"};
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage(("missing value after " + arg).c_str());
-        const std::string value = argv[++i];
-        if (arg == "--res") {
-            resolutions.clear();
-            for (const std::string& r : vdb::bench::splitList(value))
-                resolutions.push_back(parsePositive(r, "resolution"));
-        } else if (arg == "--reps") {
-            reps = parsePositive(value, "repetition count");
-        } else if (arg == "--ops") {
-            ops = vdb::bench::splitList(value);
-        } else if (arg == "--threads") {
-            threads = vdb::bench::splitList(value);
-        } else if (arg == "--markdown") {
-            markdownPath = value;
-        } else {
-            usage(("unknown argument " + arg).c_str());
-        }
-    }
+    vdb::bench::Options options(
+        "vdb_bench_tools [--res 512,1024,2048] [--reps 5] "
+        "[--ops dilate,erode,brute,floodfill,union,intersection,difference,"
+        "union-copy,intersection-copy,difference-copy] [--threads 1,all] [--markdown FILE]");
+    options.numbers("--res", resolutions)
+        .number("--reps", reps)
+        .list("--ops", ops)
+        .list("--threads", threads)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
 
     openvdb::initialize();
@@ -547,7 +519,7 @@ int main(int argc, char** argv) {
                 // nothing new.
                 if (op == "brute" && t != threads.front())
                     continue;
-                const int n = t == "all" ? cores : parsePositive(t, "thread count");
+                const int n = options.threadCount(t);
                 tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
                 const Timing a = run<Vdb>(op, ours, reps);
                 const Timing b = run<OpenVdb>(op, theirs, reps);

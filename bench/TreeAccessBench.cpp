@@ -1116,20 +1116,9 @@ int main(int argc, char** argv) {
     std::string aggregates = "--benchmark_display_aggregates_only=true";
     std::vector<char*> args{argv[0], repetitions.data(), interleave.data(), aggregates.data()};
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (arg == "--markdown") {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "missing file name after --markdown\n");
-                return 2;
-            }
-            markdownPath = argv[++i];
-        } else if (arg.rfind("--markdown=", 0) == 0) {
-            markdownPath = arg.substr(std::string("--markdown=").size());
-        } else {
-            args.push_back(argv[i]);
-        }
-    }
+    vdb::bench::Options options("vdb_bench_tree [--markdown FILE] [Google Benchmark flags]");
+    options.text("--markdown", markdownPath);
+    options.parse(argc, argv, &args);
     int count = int(args.size());
     args.push_back(nullptr);
     benchmark::Initialize(&count, args.data());

@@ -55,21 +55,6 @@ constexpr const char* kWuson = "/usr/share/assimp/models/PLY/Wuson.ply";
 /// The target of the issue: at most 0.7 times OpenVDB's time.
 constexpr double kTarget = 0.7;
 
-[[noreturn]] void usage(const std::string& message) {
-    std::fprintf(stderr,
-                 "%s\nusage: vdb_bench_volumetomesh [--cases enright:RES,wuson:RES,...] "
-                 "[--adaptivity 0,0.5] [--reps 5] [--threads 1,all] [--markdown FILE]\n",
-                 message.c_str());
-    std::exit(2);
-}
-
-int positive(const std::string& s, const char* what) {
-    int value = 0;
-    if (!vdb::bench::parsePositive(s, value))
-        usage(std::string("bad ") + what + " '" + s + "'");
-    return value;
-}
-
 // ---- Inputs ----
 
 /// The Enright sphere's band in both libraries, each signed by its own flood fill.
@@ -199,24 +184,16 @@ int main(int argc, char** argv) {
     std::vector<std::string> threads{"1", "all"};
     int reps = 5;
     std::string markdownPath;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (i + 1 >= argc)
-            usage("missing value after " + arg);
-        const std::string value = argv[++i];
-        if (arg == "--cases")
-            cases = splitList(value);
-        else if (arg == "--adaptivity")
-            adaptivities = splitList(value);
-        else if (arg == "--threads")
-            threads = splitList(value);
-        else if (arg == "--reps")
-            reps = positive(value, "repetition count");
-        else if (arg == "--markdown")
-            markdownPath = value;
-        else
-            usage("unknown argument " + arg);
-    }
+    vdb::bench::Options options(
+        "vdb_bench_volumetomesh [--cases enright:RES,wuson:RES,...] "
+        "[--adaptivity 0,0.5] [--reps 5] [--threads 1,all] "
+        "[--markdown FILE]");
+    options.list("--cases", cases)
+        .list("--adaptivity", adaptivities)
+        .list("--threads", threads)
+        .number("--reps", reps)
+        .text("--markdown", markdownPath);
+    options.parse(argc, argv);
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     openvdb::initialize();
     vdb::bench::keepHeapOnFree();
@@ -231,8 +208,8 @@ int main(int argc, char** argv) {
     for (const std::string& c : cases) {
         const auto parts = splitList(c, ':');
         if (parts.size() != 2 || (parts[0] != "enright" && parts[0] != "wuson"))
-            usage("bad case " + c);
-        const int res = positive(parts[1], "resolution");
+            options.fail("bad case " + c);
+        const int res = int(options.toNumber(parts[1], "resolution"));
         const auto [ours, theirs] = parts[0] == "enright" ? enright(res) : wuson(res);
         char inputText[64];
         std::snprintf(inputText, sizeof inputText, "%s %d^3",
@@ -242,7 +219,7 @@ int main(int argc, char** argv) {
         for (const std::string& a : adaptivities) {
             const double adaptivity = std::strtod(a.c_str(), nullptr);
             for (const std::string& t : threads) {
-                const int n = t == "all" ? cores : positive(t, "thread count");
+                const int n = options.threadCount(t);
                 tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(n));
                 size_t polysOurs = 0, polysTheirs = 0;
                 const double msOurs = medianMs(
