@@ -31,7 +31,7 @@
 #include <vdb/tools/ParticlesToLevelSet.h>
 #include <vdb/vdb.h>
 
-#include "../tests/mesh/TestMeshes.h"
+#include "TestMeshes.h"
 #include "BenchCommon.h"
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>

@@ -11,7 +11,7 @@
 #include <vdb/tools/LevelSetSphere.h>
 #include <vdb/tools/VolumeToMesh.h>
 
-#include "../mesh/MeshMetrics.h"
+#include "MeshMetrics.h"
 #include "GridContents.h"
 #include "ToolRunner.h"
 #include <gtest/gtest.h>

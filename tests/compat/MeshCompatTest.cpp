@@ -6,7 +6,7 @@
 // defects with an exact winding-number oracle):
 //
 // - This library stores, at every band voxel, the exact distance to the closest triangle
-//   (computed in double over every triangle within reach; tests/mesh checks it against brute
+//   (computed in double over every triangle within reach; tests/tools/mesh checks it against brute
 //   force to 1e-4 voxels). OpenVDB computes exact distances only at the voxels the triangles
 //   cross, then grows the band by dilation, giving each new voxel the distance to the closest
 //   of the triangles its neighbours found. A neighbour's triangle is not always the closest
@@ -32,7 +32,7 @@
 #include <vdb/meshio/MeshReader.h>
 #endif
 
-#include "../mesh/TestMeshes.h"
+#include "TestMeshes.h"
 #include "OpenVdbConvert.h"
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -195,7 +195,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 // ---- Signs of meshes with defects ----
 //
-// Oracle: the exact generalized winding number by brute force (tests/mesh/TestMeshes.h), or
+// Oracle: the exact generalized winding number by brute force (tests/support/TestMeshes.h), or
 // the parity of ray crossings for a closed mesh with a face turned over (where the winding
 // number itself is wrong). Both libraries convert the mesh with their defaults (OpenVDB:
 // meshToLevelSet, which flood-fills the exterior through the voxels and signs the voxels at

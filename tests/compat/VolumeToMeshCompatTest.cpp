@@ -13,8 +13,8 @@
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/tools/VolumeToMesh.h>
 
-#include "../mesh/AnalyticLevelSets.h"
-#include "../mesh/MeshMetrics.h"
+#include "AnalyticLevelSets.h"
+#include "MeshMetrics.h"
 #include "OpenVdbConvert.h"
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>

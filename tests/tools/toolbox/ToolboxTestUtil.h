@@ -12,7 +12,7 @@
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/SignedFloodFill.h>
 
-#include "../levelset/LevelSetTestUtil.h"
+#include "LevelSetTestUtil.h"
 
 #include <cmath>
 #include <functional>

@@ -8,7 +8,7 @@
 #include <vdb/tools/LevelSetRebuild.h>
 #include <vdb/vdb.h>
 
-#include "../mesh/AnalyticLevelSets.h"
+#include "AnalyticLevelSets.h"
 #include "LevelSetTestUtil.h"
 #include <gtest/gtest.h>
 

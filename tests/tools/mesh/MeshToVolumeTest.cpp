@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Oracles: the exact distance to the mesh by brute force over every triangle (closest point
-// by Voronoi regions, tests/mesh/TestMeshes.h), inside/outside by ray casting in three skew
+// by Voronoi regions, tests/support/TestMeshes.h), inside/outside by ray casting in three skew
 // directions, and the analytic sphere for the mesh with a hole. Every voxel of the mesh's
 // bounding box grown by the band is checked: active exactly within the band, values within
 // 1e-4 voxels of the oracle, signs and the inactive values beyond the band from the oracle.
@@ -8,7 +8,7 @@
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/vdb.h>
 
-#include "../mesh/TestMeshes.h"
+#include "TestMeshes.h"
 #include "GridContents.h"
 #include "Oracles.h"
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // Signs of meshes with defects (holes, a face turned over, T-junctions, a non-manifold fin,
 // duplicated points, overlapping closed parts), against independent oracles: the exact
 // generalized winding number by brute force over every triangle (L'Huilier's spherical excess,
-// tests/mesh/TestMeshes.h), or, for a closed mesh with a face turned over, the parity of ray
+// tests/support/TestMeshes.h), or, for a closed mesh with a face turned over, the parity of ray
 // crossings (which ignores orientation). Points are sampled from the band and from a lattice
 // over the box around the mesh; those within half a voxel of the surface or three voxels of an
 // open edge are left out. Also: which mode MeshSign::Auto picks and why, bit-for-bit equality
@@ -11,7 +11,7 @@
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/vdb.h>
 
-#include "../mesh/TestMeshes.h"
+#include "TestMeshes.h"
 #include "GridContents.h"
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

@@ -5,13 +5,13 @@
 // in every format); a cube read from OBJ converts to the same level set as the cube in memory;
 // the real meshes of the Debian package assimp-testmodels (skipped when it is not installed)
 // read alike in every format, and their level sets, with the default signs, agree with the
-// brute-force generalized winding number (tests/mesh/TestMeshes.h) away from their open edges.
+// brute-force generalized winding number (tests/support/TestMeshes.h) away from their open edges.
 
 #include <vdb/meshio/MeshReader.h>
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/vdb.h>
 
-#include "../mesh/TestMeshes.h"
+#include "TestMeshes.h"
 #include "GridContents.h"
 #include <gtest/gtest.h>
 

@@ -11,7 +11,7 @@
 #include <vdb/tools/SignedFloodFill.h>
 #include <vdb/tools/VolumeToMesh.h>
 
-#include "../levelset/LevelSetTestUtil.h"
+#include "LevelSetTestUtil.h"
 #include "TestMeshes.h"
 
 #include <algorithm>
