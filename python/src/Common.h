@@ -112,6 +112,9 @@ py::dtype scalarDtype() {
     return py::dtype::of<typename ValueTraits<ValueT>::Scalar>();
 }
 
+/// The corners of `bbox` as pyopenvdb returns them: for an empty box, ((2^31-1,)*3, (-2^31,)*3).
+std::pair<Coord, Coord> bboxCorners(const CoordBBox& bbox);
+
 /// A human-readable name of a Python object's type, for error messages.
 std::string typeNameOf(py::handle obj);
 

@@ -7,6 +7,7 @@
 
 #include "Common.h"
 
+#include <cctype>
 #include <sstream>
 #include <variant>
 
@@ -308,6 +309,40 @@ void bindConvert(py::module_& m) {
     gc.attr("LEVEL_SET") = "level set";
     gc.attr("FOG_VOLUME") = "fog volume";
     gc.attr("STAGGERED") = "staggered";
+
+    // pyopenvdb's VectorType: a class whose attributes are the vector type names, with keys()
+    // and, on an instance, len(), iteration over the keys and lookup by key.
+    struct VectorTypeNames {};
+    py::class_<VectorTypeNames> vt(
+        m, "VectorType",
+        "How transforms apply to the values of a vector grid (the grid's vectorType):\n"
+        "  INVARIANT: not transformed (a colour, a tuple)\n"
+        "  COVARIANT: by the inverse transpose, without translation (a gradient, a normal)\n"
+        "  COVARIANT_NORMALIZE: as COVARIANT, then normalised (a unit normal)\n"
+        "  CONTRAVARIANT_RELATIVE: by the linear part, without translation (a velocity)\n"
+        "  CONTRAVARIANT_ABSOLUTE: as a point, translation included (a position)");
+    py::dict names;
+    for (int t = 0; t < NUM_VEC_TYPES; ++t) {
+        const std::string value(vecTypeToString(VecType(t)));
+        std::string key = value;  // "covariant normalize" -> "COVARIANT_NORMALIZE"
+        for (char& c : key)
+            c = c == ' ' ? '_' : char(std::toupper(static_cast<unsigned char>(c)));
+        names[py::str(key)] = value;
+        vt.attr(key.c_str()) = value;
+    }
+    vt.def(py::init<>())
+        .def_static(
+            "keys", [names]() { return names.attr("keys")(); },
+            "keys() -> the names of the vector types (INVARIANT, COVARIANT, ...)")
+        .def("__len__", [names](const VectorTypeNames&) { return py::len(names); })
+        .def("__iter__", [names](const VectorTypeNames&) { return py::iter(names); })
+        .def("__getitem__", [names](const VectorTypeNames&, py::handle key) -> py::object {
+            if (!names.contains(key)) {
+                PyErr_SetObject(PyExc_KeyError, key.ptr());  // KeyError(key), as dict raises
+                throw py::error_already_set();
+            }
+            return names[key];
+        });
 }
 
 }  // namespace vdb::python

@@ -17,6 +17,7 @@
 #include <vdb/util/Parallel.h>
 
 #include "Common.h"
+#include "GridStructure.h"
 #include "TreeBlocks.h"
 #include <tbb/parallel_sort.h>
 
@@ -392,6 +393,7 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
     cls.def_property_readonly(
         "treeDepth", [](const GridT&) { return DEPTH; },
         "depth of this grid's tree from root node to leaf node");
+    bindGridStructure<GridT>(cls);
 
     cls.def(
         "getAccessor", [](GridPtr g) { return PyAccessor<GridT, false>(g); },

@@ -9,7 +9,10 @@
 #include "Common.h"
 #include "TreeBlocks.h"
 
+#include <array>
+#include <cctype>
 #include <sstream>
+#include <string_view>
 
 namespace vdb::python {
 
@@ -47,13 +50,150 @@ GridClass gridClassFromPython(py::handle obj) {
     return c;
 }
 
+/// The names of the vector types, as the vectorType property accepts them.
+std::string vecTypeNames() {
+    std::string names;
+    for (int t = 0; t < NUM_VEC_TYPES; ++t)
+        names += (t ? ", \"" : "\"") + std::string(vecTypeToString(VecType(t))) + "\"";
+    return names;
+}
+
+/// Sets the vector type of `g` from a name (vdb.VectorType.COVARIANT, ...); None removes the
+/// metadata, so that the type reads as "invariant".
+void setVectorTypeFromPython(GridBase& g, py::handle obj) {
+    if (obj.is_none()) {
+        g.clearVectorType();
+        return;
+    }
+    if (!py::isinstance<py::str>(obj))
+        throw py::type_error("vectorType is a str (vdb.VectorType.COVARIANT, ...), got " +
+                             typeNameOf(obj));
+    const std::string s = obj.cast<std::string>();
+    for (int t = 0; t < NUM_VEC_TYPES; ++t) {
+        if (vecTypeToString(VecType(t)) == s) {
+            g.setVectorType(VecType(t));
+            return;
+        }
+    }
+    throw py::value_error("unknown vector type \"" + s + "\" (expected one of " + vecTypeNames() +
+                          ")");
+}
+
+/// The metadata addStatsMetadata() writes, with the names the file format gives them.
+constexpr std::array<std::string_view, 4> STATS_META_NAMES{"file_bbox_min", "file_bbox_max",
+                                                           "file_mem_bytes", "file_voxel_count"};
+
+/// pyopenvdb's vectorType, addStatsMetadata and getStatsMetadata.
+void bindVectorTypeAndStats(py::class_<GridBase, GridBase::Ptr>& base) {
+    base.def_property(
+            "vectorType",
+            [](const GridBase& g) { return std::string(vecTypeToString(g.getVectorType())); },
+            &setVectorTypeFromPython,
+            "how transforms apply to this grid's values (vdb.VectorType.INVARIANT, COVARIANT, "
+            "COVARIANT_NORMALIZE, CONTRAVARIANT_RELATIVE, CONTRAVARIANT_ABSOLUTE); "
+            "\"invariant\" when unset. Setting None removes it; an unknown name raises "
+            "ValueError.")
+        .def(
+            "addStatsMetadata",
+            [](GridBase& g) {
+                std::pair<Coord, Coord> box;
+                Int64 voxels = 0;
+                {
+                    py::gil_scoped_release release;
+                    box = bboxCorners(g.evalActiveVoxelBoundingBox());
+                    voxels = Int64(g.activeVoxelCount());
+                }
+                const auto vec = [](const Coord& c) { return Vec3i(c[0], c[1], c[2]); };
+                g.insertMeta(STATS_META_NAMES[0], vec(box.first));
+                g.insertMeta(STATS_META_NAMES[1], vec(box.second));
+                g.insertMeta(STATS_META_NAMES[3], voxels);
+                // memUsage() counts the metadata: measure with all four entries in place.
+                g.insertMeta(STATS_META_NAMES[2], MetaValue(Int64(0)));
+                g.insertMeta(STATS_META_NAMES[2], Int64(g.memUsage()));
+            },
+            "addStatsMetadata(): store the active voxel bounding box, the memory use (as "
+            "memUsage(), these entries included) and the active voxel count as the metadata "
+            "file_bbox_min, file_bbox_max, file_mem_bytes and file_voxel_count (not kept up to "
+            "date as the grid changes).")
+        .def(
+            "getStatsMetadata",
+            [](const GridBase& g) {
+                py::dict out;
+                for (std::string_view name : STATS_META_NAMES)
+                    if (const MetaValue* v = g.findMeta(name))
+                        out[py::str(std::string(name))] = metaToPython(*v);
+                return out;
+            },
+            "getStatsMetadata() -> dict: the metadata of those four names that this grid "
+            "holds (from addStatsMetadata() or from a file), possibly none.");
+}
+
+/// The logging threshold and program name that pyopenvdb scripts set. The library writes no
+/// log messages (errors are exceptions; the module's warnings go through Python's warnings
+/// module), so they are only kept and returned.
+struct Settings {
+    std::string loggingLevel = "warn";
+    std::string programName;
+    bool color = true;
+};
+Settings& settings() {
+    static Settings s;  // read and written with the GIL held
+    return s;
+}
+
+/// LIBRARY_VERSION, getLoggingLevel, setLoggingLevel and setProgramName.
+void bindSettings(py::module_& m) {
+    // The OpenVDB library version whose API and files this library follows, as file headers
+    // record it.
+    m.attr("LIBRARY_VERSION") =
+        py::make_tuple(io::WRITER_LIBRARY_MAJOR, io::WRITER_LIBRARY_MINOR, 0);
+    m.def(
+        "getLoggingLevel", [] { return settings().loggingLevel; },
+        "getLoggingLevel() -> str: the severity threshold (\"debug\", \"info\", \"warn\", "
+        "\"error\" or \"fatal\") set by setLoggingLevel().");
+    m.def(
+        "setLoggingLevel",
+        [](py::handle level) {
+            const std::string given = py::str(level);
+            std::string name = given;
+            for (char& c : name)
+                c = char(std::tolower(static_cast<unsigned char>(c)));
+            for (const char* known : {"debug", "info", "warn", "error", "fatal"}) {
+                if (name == known) {
+                    settings().loggingLevel = name;
+                    return;
+                }
+            }
+            throw py::value_error(
+                "expected logging level \"debug\", \"info\", \"warn\", \"error\", or "
+                "\"fatal\", got \"" +
+                given + "\"");
+        },
+        py::arg("level"),
+        "setLoggingLevel(level): set the severity threshold (\"debug\", \"info\", \"warn\", "
+        "\"error\" or \"fatal\", in any case). The library logs nothing, so the level is only "
+        "kept; the module's own warnings are Python warnings (see the warnings module).");
+    m.def(
+        "setProgramName",
+        [](py::handle name, bool color) {
+            if (!py::isinstance<py::str>(name))
+                throw py::type_error("expected string as program name, got \"" +
+                                     std::string(py::str(name)) + "\" of type " + typeNameOf(name));
+            settings().programName = name.cast<std::string>();
+            settings().color = color;
+        },
+        py::arg("name"), py::arg("color") = true,
+        "setProgramName(name, color=True): the program name for log messages, and whether "
+        "they are in colour (kept only: the library logs nothing).");
+}
+
+}  // namespace
+
 std::pair<Coord, Coord> bboxCorners(const CoordBBox& bbox) {
     if (bbox.empty())  // pyopenvdb's empty box: max corner below min corner
         return {Coord(std::numeric_limits<Int32>::max()), Coord(std::numeric_limits<Int32>::min())};
     return {bbox.min(), bbox.max()};
 }
-
-}  // namespace
 
 void bindGridBase(py::module_& m) {
     py::class_<GridBase, GridBase::Ptr> base(
@@ -172,6 +312,7 @@ void bindGridBase(py::module_& m) {
                    " \"" + g.getName() + "\": " + std::to_string(g.activeVoxelCount()) +
                    " active voxels>";
         });
+    bindVectorTypeAndStats(base);
 }
 
 }  // namespace vdb::python
@@ -204,6 +345,7 @@ PYBIND11_MODULE(_vdb, m) {
     m.attr("GridTypes") = types;
     m.attr("LEVEL_SET_HALF_WIDTH") = 3.0;
     m.attr("FILE_FORMAT_VERSION") = io::FILE_VERSION;
+    bindSettings(m);
     m.attr("COORD_MIN") =
         py::make_tuple(std::numeric_limits<Int32>::min(), std::numeric_limits<Int32>::min(),
                        std::numeric_limits<Int32>::min());

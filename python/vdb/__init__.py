@@ -21,6 +21,6 @@ from ._vdb import tools  # noqa: F401
 
 __all__ = [name for name in dir(_vdb) if not name.startswith("_")]
 
-for _cls in [*GridTypes, GridBase, Transform, Metadata, Axis]:  # noqa: F405
+for _cls in [*GridTypes, GridBase, Transform, Metadata, Axis, VectorType]:  # noqa: F405
     _cls.__module__ = "vdb"
 del _cls
