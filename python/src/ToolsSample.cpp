@@ -70,10 +70,11 @@ void bindResample(py::module_& t) {
         (std::string(
              "resampleToMatch(inGrid, outGrid, sampler=\"box\"): resample inGrid into the index "
              "space of outGrid (FloatGrid, DoubleGrid or Vec3SGrid, both of one type); outGrid "
-             "keeps its transform and metadata and gets a new tree. A level set resampled to a "
-             "uniform scale is rebuilt into a clean narrow band; equal transforms or whole-voxel "
-             "translations copy the values exactly. Raises ValueError for frustum transforms "
-             "or an output of more than 2^34 voxels. ") +
+             "keeps its transform and metadata and gets a new tree. A level set is rebuilt into a "
+             "clean narrow band in outGrid's index space (with unequal scales, index-space "
+             "distances times the first voxel size, as in OpenVDB); equal transforms or "
+             "whole-voxel translations copy the values exactly. Raises ValueError for frustum "
+             "transforms or an output of more than 2^34 voxels. ") +
          SAMPLER_DOC)
             .c_str());
     t.def(

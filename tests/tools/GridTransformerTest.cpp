@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <set>
 #include <string>
@@ -98,17 +99,112 @@ TEST(GridTransformer, LevelSetResampledToDoubleResolutionStaysNearTheAnalyticDis
     EXPECT_NEAR(out->background(), 0.15f, 1e-6f);
 }
 
-TEST(GridTransformer, LevelSetResampledToARotatedNonUniformTransformStaysNearTheDistance) {
-    const auto in = makeSphere(0.05);
-    Mat4d m = Mat4d::scale(Vec3d(0.06, 0.08, 0.1));
-    m.postRotate(math::Axis::X, 0.3);
-    m.postRotate(math::Axis::Z, 0.7);
-    m.postTranslate(Vec3d(0.01, 0.02, -0.03));
-    auto out = FloatGrid::create();
-    out->setTransform(math::Transform::createLinearTransform(m));
-    resampleToMatch<BoxSampler>(*in, *out);
-    EXPECT_LT(nearSurfaceError(*out), 0.1);
-    expectBandAroundSurface(*out);
+// A level set resampled to a rotated transform with unequal scales is rebuilt in the output's
+// index space, as OpenVDB does: its values are index-space distances to the mapped sphere (an
+// ellipsoid) times the first voxel size. Oracle: with W the index-to-world linear map, a world
+// displacement of length d along the unit normal n of a plane is d / |W^T n| index units off the
+// plane's image, so a point at world distance d from the sphere is between d / smax and
+// d / smin index units from the ellipsoid (smin, smax: W's extreme singular values, here the
+// scales 0.4 and 0.65, which the rotation after them leaves alone), and d / |W^T n| near it to
+// O(d^2 / R) (the sphere's curvature). World distances (what the sampled band held) differ from
+// these by up to 35% of the value.
+struct NonUniformCase {
+    FloatGrid::Ptr in;
+    math::Transform::Ptr xform;
+    Vec3d center;
+    double radius;
+};
+
+NonUniformCase nonUniformSphere() {
+    NonUniformCase c;
+    c.center = Vec3d(0.3, -0.7, 0.4);
+    c.radius = 5.0;
+    c.in = createLevelSetSphere<FloatGrid>(float(c.radius), Vec3f(c.center), 0.2f, 3.0f);
+    Mat4d m = Mat4d::scale(Vec3d(0.4, 0.65, 0.55));
+    m.postRotate(math::Axis::X, 0.5);
+    m.postRotate(math::Axis::Z, 0.9);
+    m.postTranslate(Vec3d(0.11, -0.07, 0.23));
+    c.xform = math::Transform::createLinearTransform(m);
+    return c;
+}
+
+// Checks `out` against the oracle above for a band of `halfWidth` index units.
+void expectIndexSpaceBand(const FloatGrid& out, const NonUniformCase& c, double halfWidth) {
+    const math::Transform& xform = out.transform();
+    const Mat4d& m = xform.affineMatrix();  // rows: the world images of the index axes
+    const double vs0 = xform.voxelSize()[0];
+    const double smin = 0.4, smax = 0.65;
+    const double tol = 0.1;  // index units: the mesh and the curvature
+    // Every voxel of a box around the sphere.
+    const CoordBBox box = xform.worldToIndexCellCentered(
+        BBoxd(c.center - Vec3d(c.radius + 4.0 * smax), c.center + Vec3d(c.radius + 4.0 * smax)));
+    const tree::ValueAccessor<const FloatTree> acc(out.tree());
+    Index64 nearChecked = 0, mustBeOn = 0, mustBeOff = 0, bad = 0;
+    double worstNear = 0.0;
+    forEachCoord(box, [&](const Coord& ijk) {
+        const Vec3d x = xform.indexToWorld(ijk);
+        const double r = (x - c.center).length();
+        const double d = r - c.radius;
+        const double lo = std::abs(d) / smax, hi = std::abs(d) / smin;  // index distance bounds
+        const float v = acc.getValue(ijk);
+        const bool on = acc.isValueOn(ijk);
+        const double index = double(v) / vs0;  // the value in index units
+        if (on) {
+            // A band value: its magnitude between the bounds, its sign that of d.
+            if (std::abs(index) < lo - tol || std::abs(index) > hi + tol ||
+                (std::abs(d) > tol * smax && (v > 0) != (d > 0)))
+                ++bad;
+            if (std::abs(index) > halfWidth + 1e-5)
+                ++bad;
+        } else if (std::abs(v) != out.background() || (v > 0) != (d > 0)) {
+            ++bad;  // beyond the band: the signed background
+        }
+        if (hi < halfWidth - tol) {
+            ++mustBeOn;
+            bad += !on;
+        }
+        if (lo > halfWidth + tol) {
+            ++mustBeOff;
+            bad += on;
+        }
+        if (hi <= 1.0) {
+            // Near the surface: the distance to the plane's image.
+            const Vec3d n = (x - c.center) / r;
+            const Vec3d g(m(0, 0) * n[0] + m(0, 1) * n[1] + m(0, 2) * n[2],
+                          m(1, 0) * n[0] + m(1, 1) * n[1] + m(1, 2) * n[2],
+                          m(2, 0) * n[0] + m(2, 1) * n[1] + m(2, 2) * n[2]);
+            worstNear = std::max(worstNear, std::abs(index - d / g.length()));
+            ++nearChecked;
+            bad += !on;
+        }
+    });
+    EXPECT_EQ(bad, 0u);
+    EXPECT_LT(worstNear, 0.05);
+    EXPECT_GT(nearChecked, 1000u);
+    EXPECT_GT(mustBeOn, 3000u);
+    EXPECT_GT(mustBeOff, 3000u);
+    std::cout << "band of " << halfWidth << ": " << out.activeVoxelCount() << " active voxels, "
+              << nearChecked << " near the surface within " << worstNear
+              << " index unit of the plane estimate\n";
+}
+
+TEST(GridTransformer, LevelSetResampledToANonUniformRotatedTransformIsRebuiltInItsIndexSpace) {
+    const NonUniformCase c = nonUniformSphere();
+    // An output level set: its background (2.5 voxels of its first size) sets the band and is
+    // kept.
+    auto ls = FloatGrid::create(2.5f * 0.4f);
+    ls->setGridClass(GRID_LEVEL_SET);
+    ls->setTransform(c.xform->copy());
+    resampleToMatch<BoxSampler>(*c.in, *ls);
+    EXPECT_EQ(ls->background(), 2.5f * 0.4f);
+    EXPECT_EQ(ls->getGridClass(), GRID_LEVEL_SET);
+    expectIndexSpaceBand(*ls, c, 2.5);
+    // Any other output: the input's 3 voxels, times the output's first voxel size.
+    auto plain = FloatGrid::create();
+    plain->setTransform(c.xform->copy());
+    resampleToMatch<QuadraticSampler>(*c.in, *plain);
+    EXPECT_NEAR(plain->background(), 3.0 * 0.4, 1e-6);
+    expectIndexSpaceBand(*plain, c, 3.0);
 }
 
 TEST(GridTransformer, EqualTransformsAndWholeVoxelTranslationsCopyExactly) {

@@ -11,10 +11,18 @@
 /// voxels; when upsampling by more than 2, a layer of voxels whose stencil reaches an isolated
 /// leaf only from below is not visited, in both. Downscaling by more than half along an axis with a
 /// mipmapping sampler (box, quadratic) goes through successive halvings first, as in OpenVDB, so no
-/// input voxel is skipped. A level set keeps its narrow band: resampleToMatch() rebuilds it through
-/// its surface (tools/LevelSetRebuild.h) when the voxel size changes, and the voxels outside the
-/// band get the signed background by a flood fill. Equal transforms, or transforms that differ
-/// by a whole-voxel translation, copy the values exactly (no interpolation).
+/// input voxel is skipped. Equal transforms, or transforms that differ by a whole-voxel
+/// translation, copy the values exactly (no interpolation).
+///
+/// Level sets. transformGrid() samples a level set's band like any grid (with the input's
+/// background) and flood-fills the signs beyond it, as OpenVDB's GridTransformer does; under a
+/// scale the values are then no longer distances in the output's units. resampleToMatch()
+/// instead rebuilds it in the output's index space, as OpenVDB's does, for any linear output
+/// transform: the surface is meshed, mapped through the output's transform and scan-converted
+/// with the output's first voxel size (tools/LevelSetRebuild.h), into a clean band with the
+/// output's background. When the output's scale is not uniform (unequal scales or a shear), the
+/// result holds index-space distances times voxelSize()[0], not world distances: the zero
+/// crossing is the surface and the band is as many index units wide along every axis.
 ///
 /// Cost: one sample per voxel of each output leaf the input reaches, in parallel over output
 /// leaves (oneTBB); each leaf reads its footprint of the input once into a dense block. The
@@ -42,6 +50,7 @@
 #include <vdb/math/Mat4.h>
 #include <vdb/math/Transform.h>
 #include <vdb/math/Vec3.h>
+#include <vdb/tools/ChangeBackground.h>
 #include <vdb/tools/Interpolation.h>
 #include <vdb/tools/LevelSetRebuild.h>
 
@@ -112,11 +121,13 @@ private:
 
 /// Resamples `in` into the index space of `out` (out's transform is kept; its tree is
 /// replaced). Equal transforms, or transforms differing by a whole-voxel translation, copy the
-/// values exactly. A level set (by `in`'s grid class) resampled to a transform with a uniform
-/// scale is rebuilt into a clean narrow band of the same width in voxels (out's background
-/// over its voxel size when `out` is a level set, else in's); to a transform with unequal
-/// scales, it is resampled by `SamplerT` and flood-filled. Other grids are resampled by
-/// `SamplerT` (GridTransformer).
+/// values exactly. A float or double level set (by `in`'s grid class) is otherwise rebuilt in
+/// out's index space (see the file comment), whatever out's scale: its band is
+/// out.background() / out.voxelSize()[0] voxels wide on each side when `out` is a level set
+/// (and the result keeps out's background), else in.background() / in.voxelSize()[0] (the
+/// background is then that width times out.voxelSize()[0]); 3 voxels when that width is below
+/// 1 or not finite. With unequal scales its values are index-space distances times
+/// out.voxelSize()[0], as OpenVDB's. Other grids are resampled by `SamplerT` (GridTransformer).
 /// @throw ValueError when a transform is not linear (a frustum), or the output would hold more
 ///        than `maxVoxelCount` voxels.
 template <typename SamplerT, typename GridT>
@@ -191,14 +202,18 @@ void resampleToMatch(const GridT& in, GridT& out, Index64 maxVoxelCount) {
         return;
     }
     if constexpr (std::is_floating_point_v<ValueT>) {
-        if (in.getGridClass() == GRID_LEVEL_SET && outXform.hasUniformScale()) {
+        if (in.getGridClass() == GRID_LEVEL_SET) {
             detail::checkResampleSize(in.tree(), outFromIn, maxVoxelCount);
             const bool outIsLevelSet = out.getGridClass() == GRID_LEVEL_SET;
             const double width = outIsLevelSet ? double(out.background()) / outXform.voxelSize()[0]
                                                : double(in.background()) / inXform.voxelSize()[0];
-            const float halfWidth =
-                std::isfinite(width) && width >= 1.0 ? float(width) : 3.0f;  // OpenVDB's default
+            const bool validWidth = std::isfinite(width) && width >= 1.0;
+            const float halfWidth = validWidth ? float(width) : 3.0f;  // OpenVDB's default
             auto rebuilt = levelSetRebuild(in, 0.0f, halfWidth, halfWidth, &outXform);
+            // The width went through a division and back: an output level set keeps its own
+            // background exactly, not one rounded away from it.
+            if (outIsLevelSet && validWidth && rebuilt->background() != out.background())
+                changeLevelSetBackground(rebuilt->tree(), out.background());
             out.setTree(rebuilt->treePtr());
             return;
         }
