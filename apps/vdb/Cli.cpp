@@ -279,9 +279,9 @@ CLI::Validator finiteRange(double lo, double hi) {
         [lo, hi, bounds = std::string(range)](const std::string& text) -> std::string {
             double value = 0;
             std::string error;
-            if (!parseNumber(text, value, error))
-                return error;
-            return value >= lo && value <= hi ? "" : "must be within " + bounds + ", not " + text;
+            if (parseNumber(text, value, error) && value >= lo && value <= hi)
+                return "";
+            return "must be a finite number within " + bounds + ", not " + text;
         },
         std::string("NUMBER in ") + range);
 }

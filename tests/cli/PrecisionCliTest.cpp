@@ -22,7 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // 1.0737e9 world units at voxel size 1: inside the index space (2^31 is 2.147e9), where floats
-// are 128 apart.
+// are 64 apart (just below 2^30).
 constexpr double kFar = 1.0737e9;
 
 class PrecisionCli : public test::ToolTest {
@@ -90,7 +90,7 @@ TEST_F(PrecisionCli, SphereFarFromTheOriginIsRoundAndInPlace) {
 TEST_F(PrecisionCli, SpheresWhereFloatsAreCoarseAreRefused) {
     writeText("far.txt", "1.0737e9 0 0 5\n");
     fails({"spheres", "-o", path("s.vdb"), "--input", path("far.txt"), "--voxel-size", "1"}, 2,
-          "float coordinates are 128 apart");
+          "float coordinates are 64 apart");
     // The same sphere near the origin is drawn where it is.
     writeText("near.txt", "100 0 0 5\n");
     ok({"spheres", "-o", path("s.vdb"), "--input", path("near.txt"), "--voxel-size", "1",
@@ -110,9 +110,9 @@ TEST_F(PrecisionCli, SpheresAllTooSmallAreRefusedNotWrittenEmpty) {
 TEST_F(PrecisionCli, MeshWhereFloatsAreCoarseIsRefused) {
     writeCube("far.obj", kFar, 20.0);
     fails({"mesh", path("far.obj"), "-o", path("m.vdb"), "--voxel-size", "1"}, 2,
-          "float coordinates are 128 apart");
-    // At voxel size 512 the spacing of 128 is still 1/4 of a voxel.
-    fails({"mesh", path("far.obj"), "-o", path("m.vdb"), "--voxel-size", "512"}, 2, "1/8");
+          "float coordinates are 64 apart");
+    // At voxel size 256 the spacing of 64 is still 1/4 of a voxel.
+    fails({"mesh", path("far.obj"), "-o", path("m.vdb"), "--voxel-size", "256"}, 2, "1/8");
     writeCube("near.obj", 0.0, 20.0);
     ok({"mesh", path("near.obj"), "-o", path("m.vdb"), "--voxel-size", "1", "--quiet"});
     const auto grid = gridPtrCast<FloatGrid>(readFirst("m.vdb"));

@@ -328,7 +328,7 @@ TEST_F(RenderCli, RefusesOptionValuesThatAreNotFiniteOrInRange) {
         {{"--position", "nan,0,5", "--look-at", "0,0,0"}, "nan"},
         {{"--position", "0,0,5", "--look-at", "0,-inf,0"}, "-inf"},
         {{"--look-at", "0,0,0"}, "--position"},
-        {{"--extinction", "nan"}, "must be a finite number, not nan"},
+        {{"--extinction", "nan"}, "must be a finite number within [0, 1e+30], not nan"},
         {{"--extinction", "-1"}, "[0, 1e+30]"},
         {{"--step", "inf"}, "[0.01, 100]"},
         {{"--shadow-step", "0"}, "[0.01, 100]"},
