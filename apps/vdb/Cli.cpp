@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <string>
@@ -278,11 +279,98 @@ CLI::Validator finiteRange(double lo, double hi) {
         [lo, hi, bounds = std::string(range)](const std::string& text) -> std::string {
             double value = 0;
             std::string error;
-            if (!parseNumber(text, value, error))
-                return error;
-            return value >= lo && value <= hi ? "" : "must be within " + bounds + ", not " + text;
+            if (parseNumber(text, value, error) && value >= lo && value <= hi)
+                return "";
+            return "must be a finite number within " + bounds + ", not " + text;
         },
         std::string("NUMBER in ") + range);
+}
+
+double floatSpacing(double x) {
+    const float f = float(std::abs(x));
+    return double(std::nextafter(f, std::numeric_limits<float>::infinity())) - double(f);
+}
+
+void checkFloatPrecision(const BBoxd& worldBox, double voxelSize, const std::string& what) {
+    double reach = 0.0;
+    for (int a = 0; a < 3; ++a)
+        reach = std::max({reach, std::abs(worldBox.min()[a]), std::abs(worldBox.max()[a])});
+    const double spacing = floatSpacing(reach);
+    if (spacing <= kFloatSpacingFraction * voxelSize)
+        return;
+    throw UsageError(what + " reaches " + numberText(reach) +
+                     " world units from the origin, where float coordinates are " +
+                     numberText(spacing) + " apart: more than 1/8 of the voxel size " +
+                     numberText(voxelSize) +
+                     " (use a larger voxel size, or move the data towards the origin)");
+}
+
+void requireNonEmpty(const GridBase& grid, const std::string& what, const std::string& hint) {
+    if (grid.activeVoxelCount() > 0)
+        return;
+    throw UsageError(what + " would have no active values" +
+                     (hint.empty() ? "" : " (" + hint + ")") + ": an empty result is not written");
+}
+
+void reportGrid(Report& report, const GridBase& grid, std::optional<Index64> before) {
+    const Index64 active = grid.activeVoxelCount();
+    const Index64 leaves = grid.leafCount();
+    const double memory = double(grid.memUsage());
+    report.note("  grid \"" + grid.getName() + "\" (" + grid.valueType() +
+                "): " + (before ? withCommas(*before) + " -> " : std::string()) +
+                withCommas(active) + " active voxels in " + withCommas(leaves) + " leaves, " +
+                bytesText(memory) + " in memory");
+    JsonWriter& json = report.json();
+    json.key("name").value(grid.getName()).key("valueType").value(grid.valueType());
+    if (before)
+        json.key("activeVoxelsBefore").value(static_cast<uint64_t>(*before));
+    json.key("activeVoxels")
+        .value(static_cast<uint64_t>(active))
+        .key("leaves")
+        .value(static_cast<uint64_t>(leaves))
+        .key("memoryBytes")
+        .value(static_cast<uint64_t>(memory));
+}
+
+// ---- Frame sequences
+
+FrameNumber madeFrame(uint64_t number) {
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%04llu", static_cast<unsigned long long>(number));
+    return {number, digits};
+}
+
+std::optional<std::pair<size_t, size_t>> frameHashRun(const std::string& path,
+                                                      const std::string& what) {
+    const std::string name = std::filesystem::path(path).filename().string();
+    const size_t first = name.find('#');
+    if (first == std::string::npos)
+        return std::nullopt;
+    const size_t end = name.find_first_not_of('#', first);
+    const size_t length = (end == std::string::npos ? name.size() : end) - first;
+    if (name.find('#', first + length) != std::string::npos)
+        throw UsageError(what + ": only one run of # may stand for the frame number");
+    return std::make_pair(first, length);
+}
+
+std::string framePath(const std::string& pattern, const FrameNumber& frame,
+                      const std::string& option) {
+    const std::filesystem::path folder = std::filesystem::path(pattern).parent_path();
+    const std::string name = std::filesystem::path(pattern).filename().string();
+    const auto run = frameHashRun(pattern, option + " " + pattern);
+    if (!run)
+        throw UsageError(option + " " + pattern +
+                         ": a frame sequence needs # in the output file name for the frame "
+                         "number");
+    std::string digits = frame.digits;
+    if (run->second > 1) {
+        digits = std::to_string(frame.number);
+        if (digits.size() < run->second)
+            digits.insert(0, run->second - digits.size(), '0');
+    }
+    const std::string out =
+        name.substr(0, run->first) + digits + name.substr(run->first + run->second);
+    return folder.empty() ? out : (folder / out).string();
 }
 
 void appendQuoted(std::string& list, const std::string& name, const std::string& detail) {

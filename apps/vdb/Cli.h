@@ -7,6 +7,7 @@
 
 #include <vdb/Grid.h>
 #include <vdb/io/File.h>
+#include <vdb/math/BBox.h>
 
 #include "Json.h"
 #include "Progress.h"
@@ -17,6 +18,7 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -89,6 +91,20 @@ void checkStepEstimate(double steps, const std::string& what);
 /// the 32-bit index space, naming `what` and the world-space values behind it.
 void checkIndexRange(double lo, double hi, const std::string& what);
 
+/// The largest spacing of float coordinates allowed where a command computes world positions
+/// in single precision, as a fraction of the voxel size: 1/8, so that rounding moves a position
+/// by at most 1/16 of a voxel (see docs/LIMITS.md).
+inline constexpr double kFloatSpacingFraction = 1.0 / 8.0;
+/// The spacing of float numbers at magnitude `x` (the distance to the next float up).
+double floatSpacing(double x);
+/// Throws UsageError when the world-space box `worldBox` (of `what`) reaches where float
+/// coordinates are spaced more than kFloatSpacingFraction of `voxelSize` apart: a command that
+/// holds positions there as floats would move them by a visible part of a voxel.
+void checkFloatPrecision(const BBoxd& worldBox, double voxelSize, const std::string& what);
+/// Throws UsageError when `grid` (the result of `what`) has no active value: no command writes
+/// an empty result. `hint`, when given, says why it may be empty.
+void requireNonEmpty(const GridBase& grid, const std::string& what, const std::string& hint = {});
+
 /// Appends `name` in quotes to the comma-separated list `list`, with `detail` in parentheses
 /// when given: `"density", "vel" (vec3s)`.
 void appendQuoted(std::string& list, const std::string& name, const std::string& detail = {});
@@ -145,6 +161,12 @@ private:
     JsonWriter mJson;
     std::vector<std::pair<std::string, double>> mSteps;
 };
+
+/// The summary of a grid, the one every command reports: the line
+/// `  grid "NAME" (TYPE): [BEFORE -> ]N active voxels in L leaves, M in memory` and the keys
+/// name, valueType, [activeVoxelsBefore,] activeVoxels, leaves and memoryBytes in the JSON
+/// object open in `report.json()`.
+void reportGrid(Report& report, const GridBase& grid, std::optional<Index64> before = {});
 
 /// Throws UsageError unless grids `a` (of file `pathA`) and `b` line up: transforms equal to a
 /// relative 1e-6 (Transform::isApproxEqual), so a voxel size rounded through float on one side
@@ -209,7 +231,8 @@ inline void addEditOptions(CLI::App& cmd, EditArgs& args) {
 
 /// Reads the input, calls `edit(report, grid)` on the selected grids (it returns whether it
 /// applied to the grid), writes every grid. When no grid was edited, throws UsageError with
-/// `noneEdited` (if given) before anything is written.
+/// `noneEdited` (if given) before anything is written; so it does when an edit leaves a grid
+/// that had active values with none (requireNonEmpty).
 template <typename EditF>
 void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit,
              const std::string& noneEdited = {}) {
@@ -224,21 +247,11 @@ void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit,
         if (!edit(report, grid))
             continue;
         ++edited;
-        const Index64 after = grid->activeVoxelCount();
-        report.note("  grid \"" + grid->getName() + "\": " + withCommas(before) + " -> " +
-                    withCommas(after) + " active voxels, " + withCommas(grid->leafCount()) +
-                    " leaves");
-        report.json()
-            .beginObject()
-            .key("name")
-            .value(grid->getName())
-            .key("activeVoxelsBefore")
-            .value(static_cast<uint64_t>(before))
-            .key("activeVoxelsAfter")
-            .value(static_cast<uint64_t>(after))
-            .key("leaves")
-            .value(static_cast<uint64_t>(grid->leafCount()))
-            .endObject();
+        if (before > 0)
+            requireNonEmpty(*grid, "grid \"" + grid->getName() + "\" of " + args.input);
+        report.json().beginObject();
+        reportGrid(report, *grid, before);
+        report.json().endObject();
     }
     report.json().endArray();
     if (edited == 0 && !noneEdited.empty())
@@ -246,6 +259,48 @@ void runEdit(const Context& ctx, const EditArgs& args, EditF&& edit,
     writeOutput(report, args.out, grids);
     report.finish();
 }
+
+/// Makes one grid and writes it: checks that the output can be written, calls `make(report)`
+/// (a grid pointer; it may add its own keys to `report.json()`), names the grid `name` (unless
+/// empty), refuses an empty result (requireNonEmpty, with `emptyHint`), reports the grid
+/// (reportGrid) and writes it.
+template <typename MakeF>
+void runCreate(const Context& ctx, const OutputArgs& out, const std::string& name, MakeF&& make,
+               const std::string& emptyHint = {}) {
+    checkOutputPath(out.path);
+    Report report(ctx);
+    const GridBase::Ptr grid = make(report);
+    if (!name.empty())
+        grid->setName(name);
+    requireNonEmpty(*grid, "grid \"" + grid->getName() + "\"", emptyHint);
+    reportGrid(report, *grid);
+    writeOutput(report, out, {grid});
+    report.finish();
+}
+
+// ---- Frame sequences
+
+/// A frame of a sequence: its number and the digits that write it in a file name.
+struct FrameNumber {
+    uint64_t number = 0;
+    std::string digits;
+};
+
+/// The frame `number` of a sequence the tool makes itself (advect, enright): written with 4
+/// digits at least ("0007").
+FrameNumber madeFrame(uint64_t number);
+
+/// The run of '#' in the file name (not the folders) of `path`: its offset in the file name and
+/// its length, or nothing when there is none. Throws UsageError naming `what` for two runs.
+std::optional<std::pair<size_t, size_t>> frameHashRun(const std::string& path,
+                                                      const std::string& what);
+
+/// The tool's one frame-number rule for the files it writes: `pattern` with the run of '#' in
+/// its file name replaced by the frame's number, as `frame.digits` writes it for a single '#',
+/// zero-padded to n digits for a run of n. Throws UsageError naming `option` when the file name
+/// has no '#'.
+std::string framePath(const std::string& pattern, const FrameNumber& frame,
+                      const std::string& option);
 
 // ---- Ctrl-C
 

@@ -12,7 +12,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 namespace vdb::app {
 namespace {
@@ -29,17 +28,13 @@ math::TemporalIntegrationScheme parseTemporal(const std::string& name) {
     return math::TVD_RK3;
 }
 
-/// The file of frame `frame` (1-based) of `count`: `path` itself for a single frame, else
-/// `path` with "#" replaced by the zero-padded frame number, or "_NNNN" before the extension.
-std::string framePath(const std::string& path, int frame, int count) {
-    if (count <= 1)
+/// The file of frame `frame` (1-based) of `count` written to `path`, by the tool's
+/// frame-number rule (framePath: a run of # is the frame number): `path` itself for a single
+/// frame without #.
+std::string frameOutput(const std::string& path, int frame, int count, const std::string& option) {
+    if (count <= 1 && !frameHashRun(path, option + " " + path))
         return path;
-    char number[16];
-    std::snprintf(number, sizeof number, "%04d", frame);
-    if (const auto hash = path.find('#'); hash != std::string::npos)
-        return path.substr(0, hash) + number + path.substr(hash + 1);
-    const std::filesystem::path p(path);
-    return (p.parent_path() / (p.stem().string() + "_" + number + p.extension().string())).string();
+    return framePath(path, madeFrame(uint64_t(frame)), option);
 }
 
 struct SchemeArgs {
@@ -90,19 +85,14 @@ void advectFrames(Report& report, const typename GridT::Ptr& gridPtr, const Fiel
             },
             kTicks);
         OutputArgs frameOut = out;
-        frameOut.path = framePath(out.path, f, frames);
-        writeOutput(report, frameOut, {gridPtr});
-        report.note("  t = " + std::to_string(to) + ": " + withCommas(grid.activeVoxelCount()) +
-                    " active voxels, " + std::to_string(steps) + " steps so far");
-        report.json()
-            .beginObject()
-            .key("time")
-            .value(to)
-            .key("activeVoxels")
-            .value(static_cast<uint64_t>(grid.activeVoxelCount()))
-            .key("steps")
-            .value(static_cast<uint64_t>(steps))
-            .endObject();
+        frameOut.path = frameOutput(out.path, f, frames, "-o");
+        requireNonEmpty(grid, "the level set at t = " + numberText(to));
+        report.note("  t = " + numberText(to) + ", " + withCommas(steps) + " steps so far");
+        report.json().beginObject().key("time").value(to).key("steps").value(
+            static_cast<uint64_t>(steps));
+        reportGrid(report, grid);
+        writeOutput(report, frameOut, {gridPtr});  // and the output's keys
+        report.json().endObject();
     }
     report.json().endArray();
 }
@@ -123,7 +113,7 @@ void addAdvectCommand(CLI::App& app, Context& ctx) {
     CLI::App* cmd = addCommand(
         app, ctx, "advect", "Advect a level set through a velocity field", true, [args, &ctx] {
             const Args& a = *args;
-            checkOutputPath(framePath(a.out.path, 1, a.frames));
+            checkOutputPath(frameOutput(a.out.path, 1, a.frames, "-o"));
             Report report(ctx);
             const GridPtrVec grids =
                 report.step("read " + a.input, [&] { return readGrids(a.input, ctx); });
@@ -205,7 +195,8 @@ void addAdvectCommand(CLI::App& app, Context& ctx) {
         ->check(finiteRange(-1e6, 1e6))
         ->capture_default_str();
     cmd->add_option("--frames", args->frames,
-                    "Write this many frames (OUT with '#' or _NNNN as the frame number)")
+                    "Write this many frames (a run of # in OUT's file name is the frame number: "
+                    "# writes 0001, ### writes 001)")
         ->check(CLI::Range(1, 100000))
         ->capture_default_str();
     addSchemeOptions(*cmd, args->schemes);
@@ -233,7 +224,7 @@ void addEnrightCommand(CLI::App& app, Context& ctx) {
         [args, &ctx] {
             const Args& a = *args;
             if (!a.framesOut.empty())
-                checkOutputPath(framePath(a.framesOut, 1, a.frames));
+                checkOutputPath(frameOutput(a.framesOut, 1, a.frames, "--write-frames"));
             // The sphere's band in three time levels plus the rebuild's copies; its steps as
             // in advect.
             const double r = 0.15 * a.resolution;
@@ -277,8 +268,9 @@ void addEnrightCommand(CLI::App& app, Context& ctx) {
                             if (frame > 0 && !a.framesOut.empty()) {
                                 auto copy = grid.deepCopy();
                                 copy->setName("enright");
-                                writeGrids(framePath(a.framesOut, frame, a.frames), {copy},
-                                           parseCompression(a.compression));
+                                writeGrids(
+                                    frameOutput(a.framesOut, frame, a.frames, "--write-frames"),
+                                    {copy}, parseCompression(a.compression));
                             }
                             progress.set(static_cast<uint64_t>(frame));
                             ++frame;
@@ -307,7 +299,8 @@ void addEnrightCommand(CLI::App& app, Context& ctx) {
         ->check(finiteRange(2.0, 100.0))
         ->capture_default_str();
     cmd->add_option("--write-frames", args->framesOut,
-                    "Write each frame to this .vdb path ('#' or _NNNN: the frame number)");
+                    "Write each frame to this .vdb path (a run of # in its file name is the frame "
+                    "number: # writes 0001, ### writes 001)");
     cmd->add_option("--compression", args->compression, "Compression of written frames")
         ->check(CLI::IsMember({"none", "zip", "blosc", "raw"}))
         ->capture_default_str();

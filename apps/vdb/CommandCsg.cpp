@@ -36,41 +36,36 @@ void addCsgCommand(CLI::App& app, Context& ctx) {
     CLI::App* cmd = addCommand(
         app, ctx, "csg", "Union, intersection or difference of two level sets", true, [args, &ctx] {
             const Args& a = *args;
-            checkOutputPath(a.out.path);
-            Report report(ctx);
-            const GridPtrVec gridsA =
-                report.step("read " + a.a, [&] { return readGrids(a.a, ctx); });
-            const GridPtrVec gridsB =
-                report.step("read " + a.b, [&] { return readGrids(a.b, ctx); });
-            GridBase::Ptr lhs = pickLevelSet(gridsA, a.gridA, a.a);
-            GridBase::Ptr rhs = pickLevelSet(gridsB, a.gridB, a.b);
-            if (lhs->type() != rhs->type())
-                throw UsageError("grid \"" + lhs->getName() + "\" of " + a.a + " is " +
-                                 lhs->type() + " but grid \"" + rhs->getName() + "\" of " + a.b +
-                                 " is " + rhs->type() + "; both must have the same type");
-            requireMatchingTransforms(*lhs, a.a, *rhs, a.b, "CSG");
-            withLevelSetGrid(lhs, [&](auto& g) {
-                auto& other = *gridPtrCast<std::decay_t<decltype(g)>>(rhs);
-                report.step("csg " + a.operation, [&] {
-                    if (a.operation == "union")
-                        tools::csgUnion(g, other);
-                    else if (a.operation == "intersection")
-                        tools::csgIntersection(g, other);
-                    else
-                        tools::csgDifference(g, other);
-                });
-            });
-            report.note("  result: " + withCommas(lhs->activeVoxelCount()) + " active voxels, " +
-                        withCommas(lhs->leafCount()) + " leaves");
-            report.json()
-                .key("operation")
-                .value(a.operation)
-                .key("activeVoxels")
-                .value(static_cast<uint64_t>(lhs->activeVoxelCount()))
-                .key("leaves")
-                .value(static_cast<uint64_t>(lhs->leafCount()));
-            writeOutput(report, a.out, {lhs});
-            report.finish();
+            runCreate(
+                ctx, a.out, {},
+                [&](Report& report) {
+                    const GridPtrVec gridsA =
+                        report.step("read " + a.a, [&] { return readGrids(a.a, ctx); });
+                    const GridPtrVec gridsB =
+                        report.step("read " + a.b, [&] { return readGrids(a.b, ctx); });
+                    GridBase::Ptr lhs = pickLevelSet(gridsA, a.gridA, a.a);
+                    GridBase::Ptr rhs = pickLevelSet(gridsB, a.gridB, a.b);
+                    if (lhs->type() != rhs->type())
+                        throw UsageError("grid \"" + lhs->getName() + "\" of " + a.a + " is " +
+                                         lhs->type() + " but grid \"" + rhs->getName() + "\" of " +
+                                         a.b + " is " + rhs->type() +
+                                         "; both must have the same type");
+                    requireMatchingTransforms(*lhs, a.a, *rhs, a.b, "CSG");
+                    withLevelSetGrid(lhs, [&](auto& g) {
+                        auto& other = *gridPtrCast<std::decay_t<decltype(g)>>(rhs);
+                        report.step("csg " + a.operation, [&] {
+                            if (a.operation == "union")
+                                tools::csgUnion(g, other);
+                            else if (a.operation == "intersection")
+                                tools::csgIntersection(g, other);
+                            else
+                                tools::csgDifference(g, other);
+                        });
+                    });
+                    report.json().key("operation").value(a.operation);
+                    return lhs;
+                },
+                "the " + a.operation + " of the two shapes is empty");
         });
     cmd->add_option("operation", args->operation, "union, intersection or difference (A - B)")
         ->required()

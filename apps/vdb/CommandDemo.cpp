@@ -101,8 +101,13 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
                             [&] { return tools::torusKnotHelixSpheres(a.spheres, radius); });
             FloatGrid::Ptr helix = spheresToGrid(report, spheres, voxelSize, halfWidth);
             helix->setName("helix");
-            report.note("  helix: " + withCommas(helix->activeVoxelCount()) + " active voxels, " +
-                        bytesText(helix->memUsage()));
+            report.json().key("grids").beginArray();
+            const auto summary = [&](const GridBase& grid) {
+                report.json().beginObject();
+                reportGrid(report, grid);
+                report.json().endObject();
+            };
+            summary(*helix);
 
             // 2. A polygon mesh, scaled to stand in the knot's hole.
             std::string meshName = a.mesh;
@@ -120,8 +125,7 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
             FloatGrid::Ptr surface =
                 meshToGrid(report, mesh, voxelSize, halfWidth, tools::MeshSign::Auto);
             surface->setName("mesh");
-            report.note("  mesh: " + withCommas(surface->activeVoxelCount()) + " active voxels, " +
-                        bytesText(surface->memUsage()));
+            summary(*surface);
 
             // 3. CSG union on whole branches (the inputs are kept for the file).
             FloatGrid::Ptr both = helix->deepCopy();
@@ -130,8 +134,8 @@ void addDemoCommand(CLI::App& app, Context& ctx) {
                 FloatGrid::Ptr tool = surface->deepCopy();
                 tools::csgUnion(*both, *tool);
             });
-            report.note("  union: " + withCommas(both->activeVoxelCount()) + " active voxels, " +
-                        withCommas(both->leafCount()) + " leaves");
+            summary(*both);
+            report.json().endArray();
 
             // 4. The union back to polygons.
             meshio::Mesh polygons;

@@ -79,23 +79,16 @@ SweepInput readSweepInput(Report& report, const SweepArgs& a, const Context& ctx
     return in;
 }
 
-/// Reports the result's size (and `grid` and `isovalue` in the JSON document), writes it and
-/// finishes the report.
-void writeSweepResult(Report& report, const SweepArgs& a, const SweepInput& in,
-                      const GridBase::Ptr& result) {
-    report.note("  " + withCommas(result->activeVoxelCount()) + " active voxels in " +
-                withCommas(result->leafCount()) + " leaves");
+/// Adds the surface grid's name, whether it is a fog volume and the isovalue to the JSON
+/// document.
+void reportSweepInput(Report& report, const SweepInput& in) {
     report.json()
         .key("grid")
         .value(in.grid->getName())
         .key("fogVolume")
         .value(in.fog)
         .key("isovalue")
-        .value(in.iso)
-        .key("activeVoxels")
-        .value(static_cast<uint64_t>(result->activeVoxelCount()));
-    writeOutput(report, a.out, {result});
-    report.finish();
+        .value(in.iso);
 }
 
 std::string noSurfaceMessage(const GridBase& grid, double iso) {
@@ -134,26 +127,27 @@ void addFastSweepCommands(CLI::App& app, Context& ctx) {
         "sweeping)",
         true, [args, &ctx] {
             const SweepArgs& a = *args;
-            checkOutputPath(a.out.path);
-            Report report(ctx);
-            const SweepInput in = readSweepInput(report, a, ctx);
-            std::ostringstream label;
-            label << "redistance " << (in.fog ? "fog volume" : "level set") << " \""
-                  << in.grid->getName() << "\" at isovalue " << in.iso;
-            GridBase::Ptr result;
-            withLevelSetGrid(in.grid, [&](auto& g) {
-                using GridT = std::decay_t<decltype(g)>;
-                result = report.step(label.str(), [&] {
-                    tools::FastSweeping<GridT> fs;
-                    fs.initSdf(g, typename GridT::ValueType(in.iso), !in.fog);
-                    if (fs.boundaryVoxelCount() == 0)
-                        throw UsageError(noSurfaceMessage(g, in.iso));
-                    fs.sweep(a.iterations);
-                    fs.sdfGrid()->setGridClass(GRID_LEVEL_SET);
-                    return GridBase::Ptr(fs.sdfGrid());
+            runCreate(ctx, a.out, {}, [&](Report& report) {
+                const SweepInput in = readSweepInput(report, a, ctx);
+                std::ostringstream label;
+                label << "redistance " << (in.fog ? "fog volume" : "level set") << " \""
+                      << in.grid->getName() << "\" at isovalue " << in.iso;
+                GridBase::Ptr result;
+                withLevelSetGrid(in.grid, [&](auto& g) {
+                    using GridT = std::decay_t<decltype(g)>;
+                    result = report.step(label.str(), [&] {
+                        tools::FastSweeping<GridT> fs;
+                        fs.initSdf(g, typename GridT::ValueType(in.iso), !in.fog);
+                        if (fs.boundaryVoxelCount() == 0)
+                            throw UsageError(noSurfaceMessage(g, in.iso));
+                        fs.sweep(a.iterations);
+                        fs.sdfGrid()->setGridClass(GRID_LEVEL_SET);
+                        return GridBase::Ptr(fs.sdfGrid());
+                    });
                 });
+                reportSweepInput(report, in);
+                return result;
             });
-            writeSweepResult(report, a, in, result);
         });
     addSweepOptions(*cmd, *args);
     cmd->footer(
@@ -175,38 +169,39 @@ void addFastSweepCommands(CLI::App& app, Context& ctx) {
         "grid's active voxels (fast sweeping)",
         true, [ext, &ctx] {
             const SweepArgs& a = ext->sweep;
-            checkOutputPath(a.out.path);
-            Report report(ctx);
-            const SweepInput in = readSweepInput(report, a, ctx);
-            const GridPtrVec fields =
-                report.step("read " + ext->field, [&] { return readGrids(ext->field, ctx); });
-            const GridBase::Ptr field = selectGrids(fields, ext->fieldGrid, ext->field).front();
-            if (field->activeVoxelCount() == 0)
-                throw UsageError("field grid \"" + field->getName() + "\" of " + ext->field +
-                                 " has no active values");
-            std::ostringstream label;
-            label << "extend field \"" << field->getName() << "\" off the surface of \""
-                  << in.grid->getName() << "\" at isovalue " << in.iso;
-            GridBase::Ptr result;
-            withLevelSetGrid(in.grid, [&](auto& g) {
-                using GridT = std::decay_t<decltype(g)>;
-                withRealGrid(field, "extend takes fields of", [&](auto& f) {
-                    using FieldGridT = std::decay_t<decltype(f)>;
-                    using ExtValueT = typename FieldGridT::ValueType;
-                    result = report.step(label.str(), [&] {
-                        tools::FastSweeping<GridT, ExtValueT> fs;
-                        fs.initExt(g, FieldSampler<FieldGridT, ExtValueT>(f), f.background(),
-                                   typename GridT::ValueType(in.iso), !in.fog);
-                        if (fs.boundaryVoxelCount() == 0)
-                            throw UsageError(noSurfaceMessage(g, in.iso));
-                        fs.sweep(a.iterations);
-                        return GridBase::Ptr(fs.extGrid());
+            runCreate(ctx, a.out, {}, [&](Report& report) {
+                const SweepInput in = readSweepInput(report, a, ctx);
+                const GridPtrVec fields =
+                    report.step("read " + ext->field, [&] { return readGrids(ext->field, ctx); });
+                const GridBase::Ptr field = selectGrids(fields, ext->fieldGrid, ext->field).front();
+                if (field->activeVoxelCount() == 0)
+                    throw UsageError("field grid \"" + field->getName() + "\" of " + ext->field +
+                                     " has no active values");
+                std::ostringstream label;
+                label << "extend field \"" << field->getName() << "\" off the surface of \""
+                      << in.grid->getName() << "\" at isovalue " << in.iso;
+                GridBase::Ptr result;
+                withLevelSetGrid(in.grid, [&](auto& g) {
+                    using GridT = std::decay_t<decltype(g)>;
+                    withRealGrid(field, "extend takes fields of", [&](auto& f) {
+                        using FieldGridT = std::decay_t<decltype(f)>;
+                        using ExtValueT = typename FieldGridT::ValueType;
+                        result = report.step(label.str(), [&] {
+                            tools::FastSweeping<GridT, ExtValueT> fs;
+                            fs.initExt(g, FieldSampler<FieldGridT, ExtValueT>(f), f.background(),
+                                       typename GridT::ValueType(in.iso), !in.fog);
+                            if (fs.boundaryVoxelCount() == 0)
+                                throw UsageError(noSurfaceMessage(g, in.iso));
+                            fs.sweep(a.iterations);
+                            return GridBase::Ptr(fs.extGrid());
+                        });
                     });
                 });
+                result->setName(field->getName());
+                result->setGridClass(field->getGridClass());
+                reportSweepInput(report, in);
+                return result;
             });
-            result->setName(field->getName());
-            result->setGridClass(field->getGridClass());
-            writeSweepResult(report, a, in, result);
         });
     addSweepOptions(*extend, ext->sweep);
     extend->add_option("-f,--field", ext->field, "The .vdb file of the field to extend")

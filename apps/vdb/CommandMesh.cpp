@@ -94,6 +94,19 @@ std::string signReason(tools::MeshSign asked, const tools::MeshToVolumeReport& r
 
 }  // namespace
 
+void reportMesh(Report& report, const meshio::Mesh& mesh) {
+    report.note("  " + withCommas(mesh.points.size()) + " points, " +
+                withCommas(mesh.triangles.size()) + " triangles, " + withCommas(mesh.quads.size()) +
+                " quads");
+    report.json()
+        .key("points")
+        .value(static_cast<uint64_t>(mesh.points.size()))
+        .key("triangles")
+        .value(static_cast<uint64_t>(mesh.triangles.size()))
+        .key("quads")
+        .value(static_cast<uint64_t>(mesh.quads.size()));
+}
+
 BBoxd meshBounds(const meshio::Mesh& mesh) {
     BBoxd box;
     for (const Vec3s& p : mesh.points)
@@ -107,6 +120,8 @@ FloatGrid::Ptr meshToGrid(Report& report, const meshio::Mesh& mesh, double voxel
     // grid plus the converter's per-voxel scratch; the interior is filled with tiles.
     const double area = meshArea(mesh) / (voxelSize * voxelSize);
     checkMemoryEstimate(24.0 * area * 2.0 * double(halfWidth), "this mesh at this voxel size");
+    // Mesh points are held as floats.
+    checkFloatPrecision(meshBounds(mesh), voxelSize, "the box of this mesh");
     const auto xform = math::Transform::createLinearTransform(voxelSize);
     tools::MeshToVolumeOptions options;
     options.exteriorBandWidth = halfWidth;
@@ -136,68 +151,57 @@ void addMeshCommand(CLI::App& app, Context& ctx) {
             Args& a = *args;
             if (a.voxelSize <= 0 && a.resolution <= 0)
                 throw UsageError("give --voxel-size or --resolution");
-            checkOutputPath(a.out.path);
-            Report report(ctx);
-            const meshio::Mesh mesh =
-                report.step("read " + a.input, [&] { return meshio::readMesh(a.input); });
-            const BBoxd box = meshBounds(mesh);
-            const double extent = std::max({box.extents()[0], box.extents()[1], box.extents()[2]});
-            double voxelSize = a.voxelSize;
-            if (a.resolution > 0) {
-                if (!(extent > 0))
-                    throw UsageError(a.input + " is flat in every direction; give --voxel-size");
-                voxelSize = extent / a.resolution;
-            }
-            for (int i = 0; i < 3; ++i)
-                checkIndexRange(box.min()[i] / voxelSize - a.halfWidth,
-                                box.max()[i] / voxelSize + a.halfWidth,
-                                a.input + " at voxel size " + numberText(voxelSize));
-            report.note("  " + withCommas(mesh.points.size()) + " points, " +
-                        withCommas(mesh.triangles.size()) + " triangles, " +
-                        withCommas(mesh.quads.size()) + " quads; voxel size " +
-                        numberText(voxelSize) + " (" +
-                        std::to_string(int(std::ceil(extent / voxelSize))) +
-                        " voxels across the largest side)");
-            const tools::MeshSign sign = signByName(a.sign);
-            tools::MeshToVolumeReport found;
-            FloatGrid::Ptr grid = meshToGrid(report, mesh, voxelSize, a.halfWidth, sign, &found);
-            grid->setName(a.name);
-            const std::string reason = signReason(sign, found);
-            report.note("  signs: " + reason);
-            report.note("  " + withCommas(grid->activeVoxelCount()) + " active voxels in " +
-                        withCommas(grid->leafCount()) + " leaves, " + bytesText(grid->memUsage()) +
-                        " in memory");
-            report.json()
-                .key("points")
-                .value(static_cast<uint64_t>(mesh.points.size()))
-                .key("triangles")
-                .value(static_cast<uint64_t>(mesh.triangles.size()))
-                .key("quads")
-                .value(static_cast<uint64_t>(mesh.quads.size()))
-                .key("voxelSize")
-                .value(voxelSize)
-                .key("activeVoxels")
-                .value(static_cast<uint64_t>(grid->activeVoxelCount()))
-                .key("leaves")
-                .value(static_cast<uint64_t>(grid->leafCount()))
-                .key("sign")
-                .value(signName(found.sign))
-                .key("signReason")
-                .value(reason)
-                .key("mergedPoints")
-                .value(static_cast<uint64_t>(found.mergedPoints))
-                .key("boundaryEdges")
-                .value(static_cast<uint64_t>(found.boundaryEdges))
-                .key("nonManifoldEdges")
-                .value(static_cast<uint64_t>(found.nonManifoldEdges))
-                .key("misorientedEdges")
-                .value(static_cast<uint64_t>(found.misorientedEdges))
-                .key("flippedFaces")
-                .value(static_cast<uint64_t>(found.flippedFaces))
-                .key("holes")
-                .value(static_cast<uint64_t>(found.holes));
-            writeOutput(report, a.out, {grid});
-            report.finish();
+            runCreate(
+                ctx, a.out, a.name,
+                [&](Report& report) {
+                    const meshio::Mesh mesh =
+                        report.step("read " + a.input, [&] { return meshio::readMesh(a.input); });
+                    const BBoxd box = meshBounds(mesh);
+                    const double extent =
+                        std::max({box.extents()[0], box.extents()[1], box.extents()[2]});
+                    double voxelSize = a.voxelSize;
+                    if (a.resolution > 0) {
+                        if (!(extent > 0))
+                            throw UsageError(a.input +
+                                             " is flat in every direction; give --voxel-size");
+                        voxelSize = extent / a.resolution;
+                    }
+                    for (int i = 0; i < 3; ++i)
+                        checkIndexRange(box.min()[i] / voxelSize - a.halfWidth,
+                                        box.max()[i] / voxelSize + a.halfWidth,
+                                        a.input + " at voxel size " + numberText(voxelSize));
+                    reportMesh(report, mesh);
+                    report.note("  voxel size " + numberText(voxelSize) + " (" +
+                                std::to_string(int(std::ceil(extent / voxelSize))) +
+                                " voxels across the largest side)");
+                    const tools::MeshSign sign = signByName(a.sign);
+                    tools::MeshToVolumeReport found;
+                    FloatGrid::Ptr grid =
+                        meshToGrid(report, mesh, voxelSize, a.halfWidth, sign, &found);
+                    const std::string reason = signReason(sign, found);
+                    report.note("  signs: " + reason);
+                    report.json()
+                        .key("voxelSize")
+                        .value(voxelSize)
+                        .key("sign")
+                        .value(signName(found.sign))
+                        .key("signReason")
+                        .value(reason)
+                        .key("mergedPoints")
+                        .value(static_cast<uint64_t>(found.mergedPoints))
+                        .key("boundaryEdges")
+                        .value(static_cast<uint64_t>(found.boundaryEdges))
+                        .key("nonManifoldEdges")
+                        .value(static_cast<uint64_t>(found.nonManifoldEdges))
+                        .key("misorientedEdges")
+                        .value(static_cast<uint64_t>(found.misorientedEdges))
+                        .key("flippedFaces")
+                        .value(static_cast<uint64_t>(found.flippedFaces))
+                        .key("holes")
+                        .value(static_cast<uint64_t>(found.holes));
+                    return grid;
+                },
+                "the mesh has no faces, or none the voxels resolve");
         });
     cmd->add_option("input", args->input, "The mesh file (.obj, .ply, .stl or .off)")->required();
     addOutputOptions(*cmd, args->out);

@@ -85,17 +85,10 @@ void addOperatorCommand(CLI::App& app, Context& ctx, const std::string& name,
                 continue;
             }
             result->setName(grid->getName() + "_" + name);
-            report.note("  grid \"" + result->getName() + "\": " + result->valueType() + ", " +
-                        withCommas(result->activeVoxelCount()) + " active voxels");
-            report.json()
-                .beginObject()
-                .key("name")
-                .value(result->getName())
-                .key("valueType")
-                .value(result->valueType())
-                .key("activeVoxels")
-                .value(static_cast<uint64_t>(result->activeVoxelCount()))
-                .endObject();
+            requireNonEmpty(*result, "the " + name + " of grid \"" + grid->getName() + "\"");
+            report.json().beginObject();
+            reportGrid(report, *result);
+            report.json().endObject();
             results.push_back(result);
         }
         report.json().endArray();

@@ -31,45 +31,42 @@ void addRebuildCommand(CLI::App& app, Context& ctx) {
             const Args& a = *args;
             if (a.isovalue && !std::isfinite(*a.isovalue))
                 throw UsageError("--isovalue must be a finite number");
-            checkOutputPath(a.out.path);
-            Report report(ctx);
-            const GridPtrVec grids =
-                report.step("read " + a.input, [&] { return readGrids(a.input, ctx); });
-            const GridBase::Ptr grid = pickSurfaceGrid(grids, a.grid, a.input);
-            if (!grid->transform().isLinear() || !grid->transform().hasUniformScale())
-                throw UsageError("grid \"" + grid->getName() +
-                                 "\" has a transform that is not linear with a uniform scale; a "
-                                 "level set needs cubic voxels (give --voxel-size)");
-            const double iso = isovalueFor(*grid, a.isovalue);
-            math::Transform::Ptr xform = grid->transform().copy();
-            if (a.voxelSize > 0)
-                xform = math::Transform::createLinearTransform(a.voxelSize);
-            std::ostringstream label;
-            label << "rebuild grid \"" << grid->getName() << "\" at isovalue " << iso;
-            GridBase::Ptr result;
-            withLevelSetGrid(grid, [&](auto& g) {
-                result = report.step(label.str(), [&] {
-                    return GridBase::Ptr(
-                        tools::levelSetRebuild(g, float(iso), a.halfWidth, xform.get()));
-                });
-            });
-            result->setName(grid->getName());
-            report.note("  " + withCommas(result->activeVoxelCount()) + " active voxels in " +
-                        withCommas(result->leafCount()) + " leaves, voxel size " +
-                        std::to_string(result->voxelSize()[0]));
-            report.json()
-                .key("grid")
-                .value(grid->getName())
-                .key("isovalue")
-                .value(iso)
-                .key("voxelSize")
-                .value(result->voxelSize()[0])
-                .key("activeVoxels")
-                .value(static_cast<uint64_t>(result->activeVoxelCount()))
-                .key("leaves")
-                .value(static_cast<uint64_t>(result->leafCount()));
-            writeOutput(report, a.out, {result});
-            report.finish();
+            runCreate(
+                ctx, a.out, {},
+                [&](Report& report) {
+                    const GridPtrVec grids =
+                        report.step("read " + a.input, [&] { return readGrids(a.input, ctx); });
+                    const GridBase::Ptr grid = pickSurfaceGrid(grids, a.grid, a.input);
+                    if (!grid->transform().isLinear() || !grid->transform().hasUniformScale())
+                        throw UsageError("grid \"" + grid->getName() +
+                                         "\" has a transform that is not linear with a uniform "
+                                         "scale; a level set needs cubic voxels (give "
+                                         "--voxel-size)");
+                    const double iso = isovalueFor(*grid, a.isovalue);
+                    math::Transform::Ptr xform = grid->transform().copy();
+                    if (a.voxelSize > 0)
+                        xform = math::Transform::createLinearTransform(a.voxelSize);
+                    checkSurfacePrecision(*grid, xform->voxelSize()[0]);
+                    std::ostringstream label;
+                    label << "rebuild grid \"" << grid->getName() << "\" at isovalue " << iso;
+                    GridBase::Ptr result;
+                    withLevelSetGrid(grid, [&](auto& g) {
+                        result = report.step(label.str(), [&] {
+                            return GridBase::Ptr(
+                                tools::levelSetRebuild(g, float(iso), a.halfWidth, xform.get()));
+                        });
+                    });
+                    result->setName(grid->getName());
+                    report.json()
+                        .key("grid")
+                        .value(grid->getName())
+                        .key("isovalue")
+                        .value(iso)
+                        .key("voxelSize")
+                        .value(result->voxelSize()[0]);
+                    return result;
+                },
+                "the isovalue does not cross the grid's values");
         });
     cmd->add_option("input", args->input, "The .vdb file to read")->required();
     addOutputOptions(*cmd, args->out);

@@ -76,43 +76,7 @@ std::string vecText(const std::vector<double>& v) {
     return s;
 }
 
-std::string number(double x) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", x);
-    return buf;
-}
-
 // ---- Option checks ----------------------------------------------------------------------------
-
-/// A CLI11 check that a value is a finite number in [lo, hi]; the message names the value and
-/// the range (CLI::Range lets NaN through: every comparison with it is false).
-CLI::Validator finiteIn(double lo, double hi) {
-    const std::string range = "[" + number(lo) + ", " + number(hi) + "]";
-    return CLI::Validator(
-        [lo, hi, range](std::string& input) -> std::string {
-            double v = 0.0;
-            if (!CLI::detail::lexical_cast(input, v))
-                return "Value " + input + " is not a number (allowed: a finite number in " + range +
-                       ")";
-            if (!std::isfinite(v) || v < lo || v > hi)
-                return "Value " + input + " is outside the allowed range: a finite number in " +
-                       range;
-            return {};
-        },
-        "FLOAT in " + range);
-}
-
-/// A CLI11 check that each component of a vector option is a finite number.
-CLI::Validator finiteComponent() {
-    return CLI::Validator(
-        [](std::string& input) -> std::string {
-            double v = 0.0;
-            if (!CLI::detail::lexical_cast(input, v) || !std::isfinite(v))
-                return "Value " + input + " is not allowed: each component must be a finite number";
-            return {};
-        },
-        "");
-}
 
 /// Adds a vector option x,y,z whose components must be finite numbers.
 CLI::Option* addVector(CLI::App& cmd, const std::string& name, std::vector<double>& v,
@@ -120,7 +84,7 @@ CLI::Option* addVector(CLI::App& cmd, const std::string& name, std::vector<doubl
     CLI::Option* opt = cmd.add_option(name, v, help)
                            ->expected(3)
                            ->delimiter(',')
-                           ->check(finiteComponent())
+                           ->check(finite())
                            ->type_name("X,Y,Z");
     if (showDefault)
         opt->default_str(vecText(v));
@@ -160,24 +124,9 @@ void checkVectors(const RenderArgs& a) {
 // ---- Frame sequences --------------------------------------------------------------------------
 
 /// One file of a frame sequence: its number, the digits that name it, and its path.
-struct Frame {
-    uint64_t number = 0;
-    std::string digits;
+struct Frame : FrameNumber {
     std::string path;
 };
-
-/// The run of '#' in the file name `name`: its offset and its length, or nothing when there is
-/// none. @throw UsageError for two runs.
-std::optional<std::pair<size_t, size_t>> hashRun(const std::string& name, const std::string& what) {
-    const size_t first = name.find('#');
-    if (first == std::string::npos)
-        return std::nullopt;
-    const size_t end = name.find_first_not_of('#', first);
-    const size_t length = (end == std::string::npos ? name.size() : end) - first;
-    if (name.find('#', first + length) != std::string::npos)
-        throw UsageError(what + ": only one run of # may stand for the frame number");
-    return std::make_pair(first, length);
-}
 
 /// The frames matching `pattern`, whose file name holds one run of '#': a single '#' stands
 /// for a frame number of any number of digits ("0001", "17"), a run of n for one of at least n
@@ -188,7 +137,7 @@ std::vector<Frame> listFrames(const std::string& pattern) {
     std::error_code ec;
     const fs::path folder = fs::path(pattern).parent_path();
     const std::string namePattern = fs::path(pattern).filename().string();
-    const auto run = hashRun(namePattern, "input " + pattern);
+    const auto run = frameHashRun(namePattern, "input " + pattern);
     if (!run || fs::is_regular_file(pattern, ec))
         return {};
     const std::string prefix = namePattern.substr(0, run->first);
@@ -208,7 +157,10 @@ std::vector<Frame> listFrames(const std::string& pattern) {
         std::error_code typeError;
         if (!entry.is_regular_file(typeError))
             continue;
-        Frame f{std::stoull(digits), digits, folder.empty() ? name : (folder / name).string()};
+        Frame f;
+        f.number = std::stoull(digits);
+        f.digits = digits;
+        f.path = folder.empty() ? name : (folder / name).string();
         const auto [it, inserted] = frames.emplace(f.number, f);
         if (!inserted)
             throw UsageError("input " + pattern + ": " + it->second.path + " and " + f.path +
@@ -220,28 +172,6 @@ std::vector<Frame> listFrames(const std::string& pattern) {
     for (auto& entry : frames)
         out.push_back(std::move(entry.second));
     return out;
-}
-
-/// `pattern` with the run of '#' of its file name replaced by the frame's number: as the
-/// input's file name writes it for a single '#', zero-padded to n digits for a run of n.
-/// @throw UsageError when the file name has no '#', naming `option`.
-std::string framePath(const std::string& pattern, const Frame& frame, const std::string& option) {
-    const fs::path folder = fs::path(pattern).parent_path();
-    const std::string name = fs::path(pattern).filename().string();
-    const auto run = hashRun(name, option + " " + pattern);
-    if (!run)
-        throw UsageError(option + " " + pattern +
-                         ": a frame sequence needs # in the output file name for the frame "
-                         "number");
-    std::string digits = frame.digits;
-    if (run->second > 1) {
-        digits = std::to_string(frame.number);
-        if (digits.size() < run->second)
-            digits.insert(0, run->second - digits.size(), '0');
-    }
-    const std::string out =
-        name.substr(0, run->first) + digits + name.substr(run->first + run->second);
-    return folder.empty() ? out : (folder / out).string();
 }
 
 // ---- Grid choice ------------------------------------------------------------------------------
@@ -440,6 +370,15 @@ double pictureBytes(const RenderArgs& a) {
     return bytes;
 }
 
+/// Whether any pixel of `image` shows something other than the background `bg`.
+bool covers(const render::Image& image, const render::Rgba& bg) {
+    for (size_t y = 0; y < image.height(); ++y)
+        for (size_t x = 0; x < image.width(); ++x)
+            if (!(image(x, y) == bg))
+                return true;
+    return false;
+}
+
 /// Reruns `f`, naming the frame in the message of what it throws (keeping the exit status:
 /// UsageError stays a UsageError).
 template <typename F>
@@ -594,11 +533,12 @@ void runRender(const RenderArgs& a, Context& ctx) {
     if (levelSet) {
         report.note("grid " + label + ": level set");
     } else {
-        report.note("grid " + label + ": fog volume, values " + number(lo) + " to " + number(hi) +
-                    "; extinction " + number(extinction) + " per world unit" +
-                    (a.extinction < 0.0 ? " (derived: optical depth " + number(kFogOpticalDepth) +
-                                              " at the 90th percentile of the rays)"
-                                        : ""));
+        report.note("grid " + label + ": fog volume, values " + numberText(lo) + " to " +
+                    numberText(hi) + "; extinction " + numberText(extinction) + " per world unit" +
+                    (a.extinction < 0.0
+                         ? " (derived: optical depth " + numberText(kFogOpticalDepth) +
+                               " at the 90th percentile of the rays)"
+                         : ""));
     }
 
     // Pass 2: render and write every frame.
@@ -615,15 +555,14 @@ void runRender(const RenderArgs& a, Context& ctx) {
                 grid = findGrid(again, spec, inputOf(i), true)->grid;
             }
             render::Image image, normals;
+            const render::Rgba bg =
+                a.background.empty() ? render::Rgba{0.0f, 0.0f, 0.0f, 0.0f}
+                                     : render::Rgba{float(a.background[0]), float(a.background[1]),
+                                                    float(a.background[2]), 1.0f};
             withLevelSetGrid(grid, [&](const auto& g) {
                 report.step(tag(i) + (levelSet ? "ray-trace " : "volume-render ") + label + " (" +
                                 std::to_string(a.width) + "x" + std::to_string(a.height) + ")",
                             [&] {
-                                render::Rgba bg{0.0f, 0.0f, 0.0f, 0.0f};
-                                if (!a.background.empty())
-                                    bg =
-                                        render::Rgba{float(a.background[0]), float(a.background[1]),
-                                                     float(a.background[2]), 1.0f};
                                 if (levelSet) {
                                     render::LevelSetRenderSettings s;
                                     s.lightDirection = light;
@@ -649,6 +588,12 @@ void runRender(const RenderArgs& a, Context& ctx) {
                                 }
                             });
             });
+            // A grid with something to show that covers no pixel: the camera misses it.
+            if (!findGrid(infos[i], spec, inputOf(i), true)->empty && !covers(image, bg))
+                throw UsageError("grid \"" + label +
+                                 "\" covers no pixel of the picture: the "
+                                 "camera does not see it (check --position, --look-at and "
+                                 "--view); an empty picture is not written");
             const std::string out = outputFor(a.output, frameOf(i), "-o");
             report.step(tag(i) + "write " + out, [&] { writeImage(out, image); });
             if (levelSet && !a.normals.empty()) {
@@ -739,7 +684,7 @@ void addRenderCommand(CLI::App& app, Context& ctx) {
         ->check(CLI::Range(1, 16384))
         ->capture_default_str();
     cmd->add_option("--fov", args->fov, "Vertical field of view in degrees (perspective)")
-        ->check(finiteIn(1.0, 179.0))
+        ->check(finiteRange(1.0, 179.0))
         ->capture_default_str();
     addVector(*cmd, "--view", args->view,
               "Viewing direction for automatic framing of the grid's box (fog: the box of "
@@ -755,13 +700,13 @@ void addRenderCommand(CLI::App& app, Context& ctx) {
     cmd->add_option("--ambient", args->ambient,
                     "Light reaching every point, shadowed or not, relative to the light's "
                     "(default: 0.12 for surfaces, 0.3 for fog)")
-        ->check(finiteIn(0.0, 100.0));
+        ->check(finiteRange(0.0, 100.0));
     cmd->add_option("--background", args->background,
                     "An opaque background colour R,G,B (linear, 0 to 1) instead of a "
                     "transparent one")
         ->expected(3)
         ->delimiter(',')
-        ->check(finiteIn(0.0, 1e6))
+        ->check(finiteRange(0.0, 1e6))
         ->type_name("R,G,B");
     cmd->add_option("--normals", args->normals,
                     "Level sets: also write the surface normals as a picture");
@@ -769,13 +714,13 @@ void addRenderCommand(CLI::App& app, Context& ctx) {
                     "Fog: extinction per world unit at density 1 (default: derived from the "
                     "data so that 90% of the rays that meet the volume reach an optical depth "
                     "of at most 4)")
-        ->check(finiteIn(0.0, 1e30));
+        ->check(finiteRange(0.0, 1e30));
     cmd->add_option("--step", args->step, "Fog: longest primary step, in voxels")
-        ->check(finiteIn(0.01, 100.0))
+        ->check(finiteRange(0.01, 100.0))
         ->capture_default_str();
     cmd->add_option("--shadow-step", args->shadowStep,
                     "Fog: longest step towards the light, in voxels")
-        ->check(finiteIn(0.01, 100.0))
+        ->check(finiteRange(0.01, 100.0))
         ->capture_default_str();
     cmd->footer(
         "Frame sequences: in the input's file name a single # stands for a frame number of any "

@@ -8,6 +8,7 @@
 #include <vdb/tools/GridTransformer.h>
 
 #include "Commands.h"
+#include "SurfaceGrid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -90,6 +91,10 @@ void addResampleCommand(CLI::App& app, Context& ctx) {
                                      "; resample handles float, double, vec3s and vec3d grids "
                                      "(choose grids with --grid)");
                 }
+                // Level sets are rebuilt through a mesh of float points in world space.
+                if (grid->getGridClass() == GRID_LEVEL_SET && target->hasUniformScale() &&
+                    (gridPtrCast<FloatGrid>(grid) || gridPtrCast<DoubleGrid>(grid)))
+                    checkSurfacePrecision(*grid, target->voxelSize()[0]);
                 // The voxels the output may hold, at about the bytes of one value each.
                 const double bytesPerVoxel = gridPtrCast<FloatGrid>(grid)    ? 4.0
                                              : gridPtrCast<Vec3SGrid>(grid)  ? 12.0

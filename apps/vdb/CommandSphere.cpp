@@ -5,6 +5,7 @@
 #include <vdb/tools/LevelSetSphere.h>
 
 #include "Commands.h"
+#include "Geometry.h"
 
 namespace vdb::app {
 
@@ -22,36 +23,34 @@ void addSphereCommand(CLI::App& app, Context& ctx) {
     CLI::App* cmd = addCommand(
         app, ctx, "sphere", "Make a narrow-band level set of a sphere", true, [args, &ctx] {
             Args& a = *args;
-            checkOutputPath(a.out.path);
             const double r = a.enright > 0 ? 0.15 * a.enright : a.radius / a.voxelSize;
-            if (a.enright == 0)
+            if (a.enright == 0) {
+                // The center is placed in double precision (tools::createLevelSetSphere), so
+                // the whole index space is open to it.
                 for (int i = 0; i < 3; ++i)
                     checkIndexRange(a.center[i] / a.voxelSize - r - a.halfWidth,
                                     a.center[i] / a.voxelSize + r + a.halfWidth,
                                     "a sphere of radius " + numberText(a.radius) +
                                         " at this center and voxel size " +
                                         numberText(a.voxelSize));
+                if (!(r >= kMinSphereVoxels))
+                    throw UsageError("a sphere of radius " + numberText(a.radius) + " is " +
+                                     numberText(r) + " voxels at voxel size " +
+                                     numberText(a.voxelSize) + ", below the " +
+                                     numberText(kMinSphereVoxels) +
+                                     " voxels a level set sphere needs (use a smaller voxel size)");
+            }
             checkMemoryEstimate(levelSetBytes(4.0 * 3.14159265 * r * r, a.halfWidth),
                                 "this sphere");
-            Report report(ctx);
-            FloatGrid::Ptr grid = report.step("build sphere", [&] {
-                if (a.enright > 0)
-                    return tools::createEnrightSphere<FloatGrid>(a.enright, a.halfWidth);
-                return tools::createLevelSetSphere<FloatGrid>(
-                    a.radius, Vec3d(a.center[0], a.center[1], a.center[2]), a.voxelSize,
-                    a.halfWidth);
+            runCreate(ctx, a.out, a.name, [&](Report& report) {
+                return report.step("build sphere", [&] {
+                    if (a.enright > 0)
+                        return tools::createEnrightSphere<FloatGrid>(a.enright, a.halfWidth);
+                    return tools::createLevelSetSphere<FloatGrid>(
+                        a.radius, Vec3d(a.center[0], a.center[1], a.center[2]), a.voxelSize,
+                        a.halfWidth);
+                });
             });
-            grid->setName(a.name);
-            report.note("  " + withCommas(grid->activeVoxelCount()) + " active voxels in " +
-                        withCommas(grid->leafCount()) + " leaves, " + bytesText(grid->memUsage()) +
-                        " in memory");
-            report.json()
-                .key("activeVoxels")
-                .value(static_cast<uint64_t>(grid->activeVoxelCount()))
-                .key("leaves")
-                .value(static_cast<uint64_t>(grid->leafCount()));
-            writeOutput(report, a.out, {grid});
-            report.finish();
         });
     addOutputOptions(*cmd, args->out);
     cmd->add_option("-r,--radius", args->radius, "Radius in world units")

@@ -81,6 +81,8 @@ FloatGrid::Ptr spheresToGrid(Report& report, const tools::SphereList& spheres, d
     const Vec3d cells = box.extents() / voxelSize + 2.0 * halfWidth;
     bandVoxels = std::min(bandVoxels, cells[0] * cells[1] * cells[2]);
     checkMemoryEstimate(12.0 * bandVoxels, "these spheres at this voxel size");
+    // The rasterizer holds the centers as floats.
+    checkFloatPrecision(box, voxelSize, "the box of these spheres");
 
     auto grid = FloatGrid::create(float(halfWidth * voxelSize));
     grid->setTransform(math::Transform::createLinearTransform(voxelSize));
@@ -114,31 +116,25 @@ void addSpheresCommand(CLI::App& app, Context& ctx) {
         "spheres from a text file",
         true, [args, &ctx] {
             Args& a = *args;
-            checkOutputPath(a.out.path);
             if (a.input.empty())
                 checkMemoryEstimate(double(a.count) * (sizeof(Vec3s) + sizeof(float)) * 2.0,
                                     withCommas(a.count) + " spheres");
-            Report report(ctx);
-            const tools::SphereList spheres =
-                a.input.empty()
-                    ? report.step(
-                          "place " + withCommas(a.count) + " spheres on the helix",
-                          [&] { return tools::torusKnotHelixSpheres(a.count, a.radius, a.seed); })
-                    : report.step("read " + a.input, [&] { return readSpheres(a.input); });
-            FloatGrid::Ptr grid = spheresToGrid(report, spheres, a.voxelSize, a.halfWidth);
-            grid->setName(a.name);
-            report.note("  " + withCommas(grid->activeVoxelCount()) + " active voxels in " +
-                        withCommas(grid->leafCount()) + " leaves, " + bytesText(grid->memUsage()) +
-                        " in memory");
-            report.json()
-                .key("spheres")
-                .value(static_cast<uint64_t>(spheres.positions.size()))
-                .key("activeVoxels")
-                .value(static_cast<uint64_t>(grid->activeVoxelCount()))
-                .key("leaves")
-                .value(static_cast<uint64_t>(grid->leafCount()));
-            writeOutput(report, a.out, {grid});
-            report.finish();
+            runCreate(
+                ctx, a.out, a.name,
+                [&](Report& report) {
+                    const tools::SphereList spheres =
+                        a.input.empty()
+                            ? report.step("place " + withCommas(a.count) + " spheres on the helix",
+                                          [&] {
+                                              return tools::torusKnotHelixSpheres(a.count, a.radius,
+                                                                                  a.seed);
+                                          })
+                            : report.step("read " + a.input, [&] { return readSpheres(a.input); });
+                    report.json().key("spheres").value(
+                        static_cast<uint64_t>(spheres.positions.size()));
+                    return spheresToGrid(report, spheres, a.voxelSize, a.halfWidth);
+                },
+                "spheres below " + numberText(kMinSphereVoxels) + " voxels of radius are skipped");
         });
     addOutputOptions(*cmd, args->out);
     cmd->add_option("-i,--input", args->input,

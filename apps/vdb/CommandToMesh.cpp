@@ -6,6 +6,7 @@
 #include <vdb/tools/VolumeToMesh.h>
 
 #include "Commands.h"
+#include "Geometry.h"
 #include "SurfaceGrid.h"
 
 #include <chrono>
@@ -43,6 +44,15 @@ double isovalueFor(const GridBase& grid, const std::optional<double>& isovalue) 
     return grid.getGridClass() == GRID_FOG_VOLUME ? 0.5 : 0.0;
 }
 
+void checkSurfacePrecision(const GridBase& grid, double voxelSize) {
+    const CoordBBox box = grid.evalActiveVoxelBoundingBox();
+    if (box.empty())
+        return;
+    checkFloatPrecision(grid.transform().indexToWorld(box),
+                        std::min(voxelSize, grid.voxelSize()[0]),
+                        "the surface of grid \"" + grid.getName() + "\"");
+}
+
 void addToMeshCommand(CLI::App& app, Context& ctx) {
     struct Args {
         std::string input;
@@ -70,6 +80,7 @@ void addToMeshCommand(CLI::App& app, Context& ctx) {
                 report.step("read " + a.input, [&] { return readGrids(a.input, ctx); });
             const GridBase::Ptr grid = pickSurfaceGrid(grids, a.grid, a.input);
             const double iso = isovalueFor(*grid, a.isovalue);
+            checkSurfacePrecision(*grid, grid->voxelSize()[0]);
             std::ostringstream label;
             label << "mesh grid \"" << grid->getName() << "\" at isovalue " << iso;
             if (a.adaptivity > 0)
@@ -82,27 +93,21 @@ void addToMeshCommand(CLI::App& app, Context& ctx) {
             });
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            report.note("  " + withCommas(mesh.points.size()) + " points, " +
-                        withCommas(mesh.triangles.size()) + " triangles, " +
-                        withCommas(mesh.quads.size()) + " quads");
-            if (mesh.points.empty())
-                report.note("  the grid has no surface at this isovalue; the mesh is empty");
-            report.step("write " + a.output, [&] { meshio::writeMesh(a.output, mesh); });
-            std::error_code ec;
-            const auto bytes = std::filesystem::file_size(a.output, ec);
             report.json()
                 .key("grid")
                 .value(grid->getName())
                 .key("isovalue")
                 .value(iso)
                 .key("adaptivity")
-                .value(a.adaptivity)
-                .key("points")
-                .value(static_cast<uint64_t>(mesh.points.size()))
-                .key("triangles")
-                .value(static_cast<uint64_t>(mesh.triangles.size()))
-                .key("quads")
-                .value(static_cast<uint64_t>(mesh.quads.size()))
+                .value(a.adaptivity);
+            reportMesh(report, mesh);
+            if (mesh.points.empty())
+                throw UsageError("grid \"" + grid->getName() + "\" has no surface at isovalue " +
+                                 numberText(iso) + ": an empty mesh is not written");
+            report.step("write " + a.output, [&] { meshio::writeMesh(a.output, mesh); });
+            std::error_code ec;
+            const auto bytes = std::filesystem::file_size(a.output, ec);
+            report.json()
                 .key("seconds")
                 .value(seconds)
                 .key("output")

@@ -15,6 +15,14 @@
 
 namespace vdb::app {
 
+/// The smallest radius, in voxels, of a sphere the level set rasterizers draw
+/// (tools::createLevelSetSphere, tools::ParticlesToLevelSet's default getRmin()).
+inline constexpr double kMinSphereVoxels = 1.5;
+
+/// The summary of a mesh, the one every command reports: the line "  N points, T triangles,
+/// Q quads" and the keys points, triangles and quads in the JSON object open in `report.json()`.
+void reportMesh(Report& report, const meshio::Mesh& mesh);
+
 /// The world-space bounding box of the mesh's points.
 BBoxd meshBounds(const meshio::Mesh& mesh);
 

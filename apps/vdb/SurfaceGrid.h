@@ -22,4 +22,9 @@ GridBase::Ptr pickSurfaceGrid(const GridPtrVec& grids, const std::string& name,
 /// sets and grids of unknown class, 0.5 for fog volumes (densities from 0 to 1).
 double isovalueFor(const GridBase& grid, const std::optional<double>& isovalue);
 
+/// Throws UsageError when the isosurface of `grid`, taken as float mesh points in world space
+/// (tools::volumeToMesh, and through it tools::levelSetRebuild), lies where floats are too
+/// coarse for the grid's voxels or for `voxelSize` (checkFloatPrecision).
+void checkSurfacePrecision(const GridBase& grid, double voxelSize);
+
 }  // namespace vdb::app

@@ -319,7 +319,7 @@ TEST_F(RenderCli, RefusesOptionValuesThatAreNotFiniteOrInRange) {
         const char* needle;
     };
     const Bad bad[] = {
-        {{"--view", "nan,0,0"}, "nan is not allowed: each component must be a finite number"},
+        {{"--view", "nan,0,0"}, "must be a finite number, not nan"},
         {{"--view", "0,0,0"}, "non-zero"},
         {{"--up", "0,inf,0"}, "inf"},
         {{"--up", "0,1,0", "--view", "0,-2,0"}, "parallel"},
@@ -328,7 +328,7 @@ TEST_F(RenderCli, RefusesOptionValuesThatAreNotFiniteOrInRange) {
         {{"--position", "nan,0,5", "--look-at", "0,0,0"}, "nan"},
         {{"--position", "0,0,5", "--look-at", "0,-inf,0"}, "-inf"},
         {{"--look-at", "0,0,0"}, "--position"},
-        {{"--extinction", "nan"}, "Value nan is outside the allowed range: a finite number in [0"},
+        {{"--extinction", "nan"}, "must be a finite number within [0, 1e+30], not nan"},
         {{"--extinction", "-1"}, "[0, 1e+30]"},
         {{"--step", "inf"}, "[0.01, 100]"},
         {{"--shadow-step", "0"}, "[0.01, 100]"},
