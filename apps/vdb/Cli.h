@@ -5,7 +5,7 @@
 
 #pragma once
 
-#include <vdb/Grid.h>
+#include <vdb/GridTypes.h>
 #include <vdb/io/File.h>
 #include <vdb/math/BBox.h>
 
@@ -312,16 +312,26 @@ void installInterruptHandler();
 
 // ---- Dispatch on value types
 
+/// Calls `f(typedGrid)` when `grid` is one of `GridListT` (a TypeList of GridTypes.h); throws
+/// UsageError with `message(grid)` otherwise.
+template <typename GridListT, typename F, typename MessageF>
+void withGridOf(const GridBase::Ptr& grid, F&& f, MessageF&& message) {
+    if (!tryDispatchGrid<GridListT>(*grid, f))
+        throw UsageError(message(*grid));
+}
+
+/// The start of the type errors below: `grid "NAME" has type TYPE`.
+inline std::string gridHasType(const GridBase& grid) {
+    return "grid \"" + grid.getName() + "\" has type " + grid.type();
+}
+
 /// Calls `f(typedGrid)` when `grid` is a FloatGrid or DoubleGrid (the grid types level set
 /// tools take); throws UsageError naming the grid and its type otherwise.
 template <typename F>
 void withLevelSetGrid(const GridBase::Ptr& grid, F&& f) {
-    if (auto g = gridPtrCast<FloatGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<DoubleGrid>(grid))
-        return f(*g);
-    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() +
-                     "; this command needs a float or double grid");
+    withGridOf<RealGridTypes>(grid, f, [](const GridBase& g) {
+        return gridHasType(g) + "; this command needs a float or double grid";
+    });
 }
 
 /// Calls `f(typedGrid)` when `grid` is a FloatGrid, DoubleGrid, Vec3SGrid or Vec3DGrid (the
@@ -329,41 +339,17 @@ void withLevelSetGrid(const GridBase::Ptr& grid, F&& f) {
 /// its type and `takes` ("filters take") otherwise.
 template <typename F>
 void withRealGrid(const GridBase::Ptr& grid, const std::string& takes, F&& f) {
-    if (auto g = gridPtrCast<FloatGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<DoubleGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3SGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3DGrid>(grid))
-        return f(*g);
-    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() + "; " + takes +
-                     " float, double, vec3s and vec3d grids");
+    withGridOf<FloatingPointGridTypes>(grid, f, [&](const GridBase& g) {
+        return gridHasType(g) + "; " + takes + " float, double, vec3s and vec3d grids";
+    });
 }
 
 /// Calls `f(typedGrid)` for any grid type the library holds; throws UsageError otherwise.
 template <typename F>
 void withAnyGrid(const GridBase::Ptr& grid, F&& f) {
-    if (auto g = gridPtrCast<FloatGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<DoubleGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Int32Grid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Int64Grid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<BoolGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<MaskGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3SGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3DGrid>(grid))
-        return f(*g);
-    if (auto g = gridPtrCast<Vec3IGrid>(grid))
-        return f(*g);
-    throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() +
-                     ", which this command does not handle");
+    withGridOf<GridTypes>(grid, f, [](const GridBase& g) {
+        return gridHasType(g) + ", which this command does not handle";
+    });
 }
 
 }  // namespace vdb::app

@@ -14,7 +14,6 @@
 
 #include <vdb/tools/FastSweeping.h>
 #include <vdb/tools/Interpolation.h>
-#include <vdb/tree/ValueAccessor.h>
 
 #include "Commands.h"
 #include "SurfaceGrid.h"
@@ -98,24 +97,6 @@ std::string noSurfaceMessage(const GridBase& grid, double iso) {
     return msg.str();
 }
 
-/// The extension functor of `vdb extend`: the field trilinearly interpolated at a world
-/// position. Each copy (one per thread) keeps its own accessor.
-template <typename FieldGridT, typename ExtValueT>
-class FieldSampler {
-public:
-    explicit FieldSampler(const FieldGridT& field) : mField(&field) {}
-    FieldSampler(const FieldSampler& other) : mField(other.mField) {}
-    ExtValueT operator()(const Vec3d& xyz) const {
-        if (!mAcc)
-            mAcc.emplace(mField->tree());
-        return ExtValueT(tools::BoxSampler::sample(*mAcc, mField->transform().worldToIndex(xyz)));
-    }
-
-private:
-    const FieldGridT* mField;
-    mutable std::optional<tree::ValueAccessor<const typename FieldGridT::TreeType>> mAcc;
-};
-
 }  // namespace
 
 void addFastSweepCommands(CLI::App& app, Context& ctx) {
@@ -188,7 +169,7 @@ void addFastSweepCommands(CLI::App& app, Context& ctx) {
                         using ExtValueT = typename FieldGridT::ValueType;
                         result = report.step(label.str(), [&] {
                             tools::FastSweeping<GridT, ExtValueT> fs;
-                            fs.initExt(g, FieldSampler<FieldGridT, ExtValueT>(f), f.background(),
+                            fs.initExt(g, tools::WorldSampler(f), f.background(),
                                        typename GridT::ValueType(in.iso), !in.fog);
                             if (fs.boundaryVoxelCount() == 0)
                                 throw UsageError(noSurfaceMessage(g, in.iso));

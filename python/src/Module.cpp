@@ -3,6 +3,7 @@
 // every grid type shares, and the module's contents.
 
 #include <vdb/Exceptions.h>
+#include <vdb/GridTypes.h>
 #include <vdb/io/Format.h>
 #include <vdb/tools/LevelSetSphere.h>
 
@@ -339,9 +340,7 @@ PYBIND11_MODULE(_vdb, m) {
     bindToolsClip(tools);
 
     py::list types;
-    for (const char* n : {"FloatGrid", "DoubleGrid", "Int32Grid", "Int64Grid", "BoolGrid",
-                          "MaskGrid", "Vec3SGrid", "Vec3DGrid", "Vec3IGrid"})
-        types.append(m.attr(n));
+    GridTypes::forEach([&]<typename GridT>() { types.append(py::type::of<GridT>()); });
     m.attr("GridTypes") = types;
     m.attr("LEVEL_SET_HALF_WIDTH") = 3.0;
     m.attr("FILE_FORMAT_VERSION") = io::FILE_VERSION;

@@ -2,6 +2,7 @@
 // vdb.tools: CSG, morphology, level set advection and rebuild, spheres and mesh conversion,
 // with OpenVDB's names, for the grid types each C++ tool is instantiated for.
 
+#include <vdb/GridTypes.h>
 #include <vdb/tools/Composite.h>
 #include <vdb/tools/LevelSetAdvect.h>
 #include <vdb/tools/LevelSetRebuild.h>
@@ -185,16 +186,10 @@ void bindTools(py::module_&, py::module_& t) {
         .value("PRESERVE_TILES", tools::PRESERVE_TILES)
         .export_values();
 
-    bindCsg<FloatGrid>(t);
-    bindCsg<DoubleGrid>(t);
-    bindMorphology<FloatGrid>(t);
-    bindMorphology<DoubleGrid>(t);
-    bindMorphology<Int32Grid>(t);
-    bindMorphology<Int64Grid>(t);
-    bindMorphology<BoolGrid>(t);
-    bindMorphology<MaskGrid>(t);
-    bindLevelSetTools<FloatGrid>(t);
-    bindLevelSetTools<DoubleGrid>(t);
+    RealGridTypes::forEach([&]<typename GridT>() { bindCsg<GridT>(t); });
+    NumericGridTypes::Append<BoolGrid, MaskGrid>::forEach(
+        [&]<typename GridT>() { bindMorphology<GridT>(t); });
+    RealGridTypes::forEach([&]<typename GridT>() { bindLevelSetTools<GridT>(t); });
 
     t.def(
         "createLevelSetSphere",

@@ -3,6 +3,7 @@
 // compositing (compMax, compMin, compSum, compMul, compDiv, compReplace of Composite.h), with
 // OpenVDB's names, for every grid type of the module.
 
+#include <vdb/GridTypes.h>
 #include <vdb/math/BBox.h>
 #include <vdb/tools/Activate.h>
 #include <vdb/tools/Clip.h>
@@ -17,42 +18,18 @@
 
 namespace vdb::python {
 
-namespace {
-
-/// Calls `fn(grid)` with `obj` cast to its grid type; false when it is none of them.
-template <typename FnT>
-bool visitGrid(py::handle obj, const FnT& fn) {
-    bool found = false;
-    const auto tryType = [&]<typename GridT>() {
-        if (!found && py::isinstance<GridT>(obj)) {
-            found = true;
-            fn(obj.cast<const GridT&>());
-        }
-    };
-    tryType.template operator()<FloatGrid>();
-    tryType.template operator()<DoubleGrid>();
-    tryType.template operator()<Int32Grid>();
-    tryType.template operator()<Int64Grid>();
-    tryType.template operator()<BoolGrid>();
-    tryType.template operator()<MaskGrid>();
-    tryType.template operator()<Vec3SGrid>();
-    tryType.template operator()<Vec3DGrid>();
-    tryType.template operator()<Vec3IGrid>();
-    return found;
-}
-
-}  // namespace
-
 std::shared_ptr<const MaskGrid> activeMask(py::handle obj, const char* op) {
     if (py::isinstance<MaskGrid>(obj))
         return requireGrid(obj.cast<MaskGrid::Ptr>(), op);
     MaskGrid::Ptr mask;
-    const bool isGrid = visitGrid(obj, [&](const auto& grid) {
-        py::gil_scoped_release release;
-        mask = MaskGrid::create();
-        mask->setTransform(grid.transform().copy());
-        mask->tree().topologyUnion(grid.tree());
-    });
+    const bool isGrid =
+        py::isinstance<GridBase>(obj) &&
+        tryDispatchGrid<GridTypes>(obj.cast<const GridBase&>(), [&](const auto& grid) {
+            py::gil_scoped_release release;
+            mask = MaskGrid::create();
+            mask->setTransform(grid.transform().copy());
+            mask->tree().topologyUnion(grid.tree());
+        });
     if (!isGrid)
         throw py::type_error(std::string(op) + ": expected a grid as the mask, got " +
                              typeNameOf(obj));
@@ -182,23 +159,8 @@ void bindComposite(py::module_& t) {
 }  // namespace
 
 void bindToolsClip(py::module_& t) {
-    bindClip<FloatGrid>(t);
-    bindClip<DoubleGrid>(t);
-    bindClip<Int32Grid>(t);
-    bindClip<Int64Grid>(t);
-    bindClip<BoolGrid>(t);
-    bindClip<MaskGrid>(t);
-    bindClip<Vec3SGrid>(t);
-    bindClip<Vec3DGrid>(t);
-    bindClip<Vec3IGrid>(t);
-    bindComposite<FloatGrid>(t);
-    bindComposite<DoubleGrid>(t);
-    bindComposite<Int32Grid>(t);
-    bindComposite<Int64Grid>(t);
-    bindComposite<BoolGrid>(t);
-    bindComposite<Vec3SGrid>(t);
-    bindComposite<Vec3DGrid>(t);
-    bindComposite<Vec3IGrid>(t);
+    GridTypes::forEach([&]<typename GridT>() { bindClip<GridT>(t); });
+    GridTypes::Remove<MaskGrid>::forEach([&]<typename GridT>() { bindComposite<GridT>(t); });
 }
 
 }  // namespace vdb::python

@@ -3,6 +3,7 @@
 // and the level set measures, with OpenVDB's names, for the grid types the C++ library
 // instantiates them for.
 
+#include <vdb/GridTypes.h>
 #include <vdb/math/FiniteDifference.h>
 #include <vdb/tools/Filter.h>
 #include <vdb/tools/GridOperators.h>
@@ -86,15 +87,16 @@ private:
     LevelSetFilterSettings mSettings;
 };
 
-/// One constructor `P(grid)` for each of the grid types GridTs, each holding the grid as the
-/// variant alternative of its type.
-template <typename P, typename... GridTs>
+/// One constructor `P(grid)` for each of the grid types of the TypeList GridListT, each holding
+/// the grid as the variant alternative of its type.
+template <typename P, typename GridListT>
 void defGridConstructors(py::class_<P>& c) {
-    (c.def(py::init([](typename GridTs::Ptr g) {
-               return P(std::in_place_type<GridTs>, requireGrid(g, "grid"));
-           }),
-           py::arg("grid")),
-     ...);
+    GridListT::forEach([&]<typename GridT>() {
+        c.def(py::init([](typename GridT::Ptr g) {
+                  return P(std::in_place_type<GridT>, requireGrid(g, "grid"));
+              }),
+              py::arg("grid"));
+    });
 }
 
 void bindLevelSetFilter(py::module_& t) {
@@ -107,7 +109,7 @@ void bindLevelSetFilter(py::module_& t) {
                     "(1 - alpha) old + alpha new, alpha being the mask value mapped from "
                     "[minMask, maxMask] to [0, 1]. Raises ValueError for a grid without cubic "
                     "voxels or with a background that is not positive.");
-    defGridConstructors<P, FloatGrid, DoubleGrid>(c);
+    defGridConstructors<P, RealGridTypes>(c);
     c.def_property_readonly("grid", &P::grid, "the filtered grid");
     c.def(
         "mean",
@@ -235,6 +237,9 @@ void bindLevelSetFilter(py::module_& t) {
 
 // ---- Filter
 
+/// The grid types of the value filters of Filter.h.
+using FilteredGridTypes = RealGridTypes::Append<Vec3SGrid>;
+
 template <typename GridT>
 struct FilterOf {
     typename GridT::Ptr grid;
@@ -284,7 +289,7 @@ void bindFilter(py::module_& t) {
                     "they are. An optional mask (a FloatGrid) blends old and new values as "
                     "(1 - alpha) old + alpha new, alpha being the mask value mapped from "
                     "[minMask, maxMask] to [0, 1].");
-    defGridConstructors<P, FloatGrid, DoubleGrid, Vec3SGrid>(c);
+    defGridConstructors<P, FilteredGridTypes>(c);
     c.def_property_readonly("grid", &P::grid, "the filtered grid");
     c.def(
         "mean",
@@ -520,15 +525,14 @@ void bindMeasureFunctions(py::module_& t) {
 }
 
 void bindLevelSetMeasure(py::module_& t) {
-    bindMeasureFunctions<FloatGrid>(t);
-    bindMeasureFunctions<DoubleGrid>(t);
+    RealGridTypes::forEach([&]<typename GridT>() { bindMeasureFunctions<GridT>(t); });
     using P = PyLevelSetMeasure;
     py::class_<P> c(t, "LevelSetMeasure",
                     "LevelSetMeasure(grid): area, volume and curvatures of a narrow-band level "
                     "set (FloatGrid or DoubleGrid), each computed on first request and kept; "
                     "call init(grid) after the grid changes. Raises ValueError for a grid that "
                     "is not a level set, is empty or has non-cubic voxels.");
-    defGridConstructors<P, FloatGrid, DoubleGrid>(c);
+    defGridConstructors<P, RealGridTypes>(c);
     c.def_property_readonly("grid", &P::grid, "the measured grid");
     c.def(
         "init", [](P& m, FloatGrid::Ptr g) { m.init<FloatGrid>(requireGrid(g, "init")); },

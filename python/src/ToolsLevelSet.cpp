@@ -5,16 +5,15 @@
 // the C++ library instantiates them for.
 
 #include <vdb/Exceptions.h>
+#include <vdb/GridTypes.h>
 #include <vdb/tools/FastSweeping.h>
 #include <vdb/tools/Interpolation.h>
 #include <vdb/tools/LevelSetUtil.h>
-#include <vdb/tree/ValueAccessor.h>
 
 #include "Common.h"
 #include "TreeBlocks.h"
 
 #include <limits>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,8 +57,7 @@ void bindFogVolume(py::module_& t) {
 }
 
 void bindLevelSetUtil(py::module_& t) {
-    bindFogVolume<FloatGrid>(t);
-    bindFogVolume<DoubleGrid>(t);
+    RealGridTypes::forEach([&]<typename GridT>() { bindFogVolume<GridT>(t); });
     t.def(
         "sdfInteriorMask",
         [](const FloatGrid& g, float iso) {
@@ -176,26 +174,6 @@ void bindSweeping(py::module_& t) {
         "or the inside.");
 }
 
-/// The extension functor: `field` sampled trilinearly at a world position; each copy (one per
-/// thread) has its own accessor.
-template <typename FieldGridT>
-class FieldSampler {
-public:
-    using ValueT = typename FieldGridT::ValueType;
-    explicit FieldSampler(const FieldGridT& field) : mField(&field) {}
-    FieldSampler(const FieldSampler& other) : mField(other.mField) {}
-    FieldSampler& operator=(const FieldSampler&) = delete;
-    ValueT operator()(const Vec3d& xyz) const {
-        if (!mAcc)
-            mAcc.emplace(mField->tree());
-        return ValueT(tools::BoxSampler::sample(*mAcc, mField->transform().worldToIndex(xyz)));
-    }
-
-private:
-    const FieldGridT* mField;
-    mutable std::optional<tree::ValueAccessor<const typename FieldGridT::TreeType>> mAcc;
-};
-
 /// Binds fogToExt, sdfToExt, fogToSdfAndExt and sdfToSdfAndExt for surfaces of type GridT and
 /// fields of type FieldGridT.
 template <typename GridT, typename FieldGridT>
@@ -221,8 +199,8 @@ void bindExtension(py::module_& t) {
                        tools::FastSweepingDomain mode, const FieldGridT* extGrid) {
             const ExtGridPtr ext = other(extGrid, nIter, "fogToExt");
             py::gil_scoped_release release;
-            return named(tools::fogToExt(g, FieldSampler<FieldGridT>(field), field.background(),
-                                         iso, nIter, mode, ext),
+            return named(tools::fogToExt(g, tools::WorldSampler(field), field.background(), iso,
+                                         nIter, mode, ext),
                          field);
         },
         py::arg("grid"), py::arg("field"), py::arg("isoValue"), py::arg("nIter") = 1,
@@ -241,8 +219,8 @@ void bindExtension(py::module_& t) {
                        tools::FastSweepingDomain mode, const FieldGridT* extGrid) {
             const ExtGridPtr ext = other(extGrid, nIter, "sdfToExt");
             py::gil_scoped_release release;
-            return named(tools::sdfToExt(g, FieldSampler<FieldGridT>(field), field.background(),
-                                         iso, nIter, mode, ext),
+            return named(tools::sdfToExt(g, tools::WorldSampler(field), field.background(), iso,
+                                         nIter, mode, ext),
                          field);
         },
         py::arg("grid"), py::arg("field"), py::arg("isoValue") = ValueT(0), py::arg("nIter") = 1,
@@ -258,7 +236,7 @@ void bindExtension(py::module_& t) {
             const ExtGridPtr ext = other(extGrid, nIter, "fogToSdfAndExt");
             py::gil_scoped_release release;
             auto [sdf, extension] = tools::fogToSdfAndExt(
-                g, FieldSampler<FieldGridT>(field), field.background(), iso, nIter, mode, ext);
+                g, tools::WorldSampler(field), field.background(), iso, nIter, mode, ext);
             return std::make_pair(GridBase::Ptr(sdf), named(extension, field));
         },
         py::arg("grid"), py::arg("field"), py::arg("isoValue"), py::arg("nIter") = 1,
@@ -274,7 +252,7 @@ void bindExtension(py::module_& t) {
             const ExtGridPtr ext = other(extGrid, nIter, "sdfToSdfAndExt");
             py::gil_scoped_release release;
             auto [sdf, extension] = tools::sdfToSdfAndExt(
-                g, FieldSampler<FieldGridT>(field), field.background(), iso, nIter, mode, ext);
+                g, tools::WorldSampler(field), field.background(), iso, nIter, mode, ext);
             return std::make_pair(GridBase::Ptr(sdf), named(extension, field));
         },
         py::arg("grid"), py::arg("field"), py::arg("isoValue") = ValueT(0), py::arg("nIter") = 1,
@@ -313,8 +291,7 @@ void bindToolsLevelSet(py::module_& t) {
         .value("SWEEP_LESS_THAN_ISOVALUE", tools::FastSweepingDomain::SWEEP_LESS_THAN_ISOVALUE)
         .export_values();
     bindLevelSetUtil(t);
-    bindSweeping<FloatGrid>(t);
-    bindSweeping<DoubleGrid>(t);
+    RealGridTypes::forEach([&]<typename GridT>() { bindSweeping<GridT>(t); });
     bindMaskSdf<MaskGrid>(t);
     bindMaskSdf<BoolGrid>(t);
     bindMaskSdf<FloatGrid>(t);

@@ -4,6 +4,7 @@
 // with OpenVDB's names, for the grid types the C++ library instantiates them for.
 
 #include <vdb/Exceptions.h>
+#include <vdb/GridTypes.h>
 #include <vdb/tools/ChangeBackground.h>
 #include <vdb/tools/Count.h>
 #include <vdb/tools/GridTransformer.h>
@@ -54,6 +55,9 @@ const char* const SAMPLER_DOC =
     "(triquadratic).";
 
 // ---- Resampling
+
+/// The grid types resampleToMatch and transformGrid take.
+using ResampledGridTypes = RealGridTypes::Append<Vec3SGrid>;
 
 template <typename GridT>
 void bindResample(py::module_& t) {
@@ -145,9 +149,7 @@ void bindGridTransformer(py::module_& t) {
     c.def("setThreaded", &X::setThreaded, py::arg("threaded"),
           "setThreaded(threaded): run in parallel over output leaves (the default) or serially.");
     c.def("threaded", &X::threaded, "threaded() -> bool");
-    bindTransformerMethod<FloatGrid>(c);
-    bindTransformerMethod<DoubleGrid>(c);
-    bindTransformerMethod<Vec3SGrid>(c);
+    ResampledGridTypes::forEach([&]<typename GridT>() { bindTransformerMethod<GridT>(c); });
 }
 
 // ---- GridSampler
@@ -242,10 +244,7 @@ void bindGridSampler(py::module_& t) {
                                  "(voxel-centred: index point (i, j, k) is voxel (i, j, k)). ") +
                      SAMPLER_DOC)
                         .c_str());
-    bindSamplerInit<FloatGrid>(c);
-    bindSamplerInit<DoubleGrid>(c);
-    bindSamplerInit<Vec3SGrid>(c);
-    bindSamplerInit<Vec3DGrid>(c);
+    FloatingPointGridTypes::forEach([&]<typename GridT>() { bindSamplerInit<GridT>(c); });
     c.def_property_readonly("grid", &P::grid, "the sampled grid");
     c.def(
         "isSample", [](const P& s, py::handle ijk) { return s.sample(ijk, false); }, py::arg("ijk"),
@@ -419,32 +418,14 @@ void bindBackground(py::module_& t) {
 }  // namespace
 
 void bindToolsSample(py::module_& t) {
-    bindResample<FloatGrid>(t);
-    bindResample<DoubleGrid>(t);
-    bindResample<Vec3SGrid>(t);
+    ResampledGridTypes::forEach([&]<typename GridT>() { bindResample<GridT>(t); });
     bindGridTransformer(t);
     bindGridSampler(t);
-    bindStatistics<FloatGrid>(t);
-    bindStatistics<DoubleGrid>(t);
-    bindStatistics<Int32Grid>(t);
-    bindStatistics<Int64Grid>(t);
-    bindStatistics<Vec3SGrid>(t);
-    bindStatistics<Vec3DGrid>(t);
-    bindMinMax<FloatGrid>(t);
-    bindMinMax<DoubleGrid>(t);
-    bindMinMax<Int32Grid>(t);
-    bindMinMax<Int64Grid>(t);
-    bindMinMax<BoolGrid>(t);
-    bindMinMax<Vec3SGrid>(t);
-    bindMinMax<Vec3DGrid>(t);
-    bindMinMax<Vec3IGrid>(t);
-    bindBackground<FloatGrid>(t);
-    bindBackground<DoubleGrid>(t);
-    bindBackground<Int32Grid>(t);
-    bindBackground<Int64Grid>(t);
-    bindBackground<Vec3SGrid>(t);
-    bindBackground<Vec3DGrid>(t);
-    bindBackground<Vec3IGrid>(t);
+    NumericGridTypes::Append<Vec3SGrid, Vec3DGrid>::forEach(
+        [&]<typename GridT>() { bindStatistics<GridT>(t); });
+    GridTypes::Remove<MaskGrid>::forEach([&]<typename GridT>() { bindMinMax<GridT>(t); });
+    GridTypes::Remove<BoolGrid, MaskGrid>::forEach(
+        [&]<typename GridT>() { bindBackground<GridT>(t); });
 }
 
 }  // namespace vdb::python

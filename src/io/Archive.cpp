@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// The grid type registry of io/Archive.h, holding the nine standard grid types from the start,
-// the one instantiation of their tree readers and writers, and the file that out-of-core leaves
-// read from.
+// The grid type registry of io/Archive.h, holding the standard grid types (GridTypes) from the
+// start, the one instantiation of their tree readers and writers, and the file that out-of-core
+// leaves read from.
 
+#include <vdb/GridTypes.h>
 #include <vdb/io/Archive.h>
 
 #include <fcntl.h>
@@ -24,14 +25,11 @@ struct Registry {
     std::map<std::type_index, GridTypeIo> writers;         // writers, by C++ grid type
 
     Registry() {
-        for (const GridTypeIo& t :
-             {makeGridTypeIo<FloatGrid>(), makeGridTypeIo<DoubleGrid>(),
-              makeGridTypeIo<Int32Grid>(), makeGridTypeIo<Int64Grid>(), makeGridTypeIo<BoolGrid>(),
-              makeGridTypeIo<MaskGrid>(), makeGridTypeIo<Vec3SGrid>(), makeGridTypeIo<Vec3DGrid>(),
-              makeGridTypeIo<Vec3IGrid>()}) {
+        GridTypes::forEach([&]<typename GridT>() {
+            const GridTypeIo t = makeGridTypeIo<GridT>();
             types.emplace(t.typeName, t);
             writers.emplace(std::type_index(*t.gridType), t);
-        }
+        });
     }
 };
 

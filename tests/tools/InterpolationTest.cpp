@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <random>
+#include <thread>
+#include <vector>
 
 namespace vdb::tools {
 namespace {
@@ -326,6 +328,64 @@ TEST(Interpolation, VectorValuesInterpolateComponentwise) {
     const Vec3d v = BoxSampler::sample(tree, p);
     EXPECT_TRUE(math::isApproxEqual(v, Vec3d(p[0] + p[1], 2.0 * p[2], p[0] * p[1] * p[2]), 1e-12))
         << v;
+}
+
+TEST(Interpolation, WorldSamplerReproducesALinearWorldFieldInEveryCopyAndThread) {
+    // A vector field linear in world space is linear in index space under an affine transform,
+    // so the box sampler must reproduce it at any world point inside the written voxels.
+    Mat4d m = Mat4d::scale(Vec3d(0.5, 0.25, 0.75));
+    m.postRotate(math::Axis::X, 0.7);
+    m.postTranslate(Vec3d(-1.0, 2.5, 0.5));
+    const auto xform = math::Transform::createLinearTransform(m);
+    const auto field = [](const Vec3d& w) {
+        return Vec3d(0.5 * w[0] - w[1] + 2.0, 0.25 * w[2] + 1.0, w[0] + w[1] + w[2]);
+    };
+    auto grid = Vec3SGrid::create(Vec3s(0.0f));
+    grid->setTransform(xform);
+    writeField(grid->tree(), -8, 8,
+               [&](const Vec3d& ijk) { return Vec3s(field(xform->indexToWorld(ijk))); });
+
+    const WorldSampler<Vec3SGrid> sampler(*grid);
+    EXPECT_EQ(&sampler.grid(), grid.get());
+    const auto check = [&](const WorldSampler<Vec3SGrid>& s, unsigned seed) {
+        std::mt19937 rng(seed);
+        int wrong = 0;
+        for (int n = 0; n < 2000; ++n) {
+            const Vec3d xyz = xform->indexToWorld(randomPoint(rng, -7.0, 7.0));
+            const Vec3d got(s(xyz)), want = field(xyz);
+            wrong += !math::isApproxEqual(got, want, 1e-4);
+        }
+        return wrong;
+    };
+    EXPECT_EQ(check(sampler, 1), 0);
+    // Copies, one per thread, each with an accessor of its own (one copied after use).
+    std::vector<int> wrong(4, -1);
+    std::vector<std::thread> threads;
+    for (unsigned t = 0; t < wrong.size(); ++t)
+        threads.emplace_back([&, t, copy = sampler] { wrong[t] = check(copy, 10 + t); });
+    for (auto& t : threads)
+        t.join();
+    EXPECT_EQ(wrong, std::vector<int>(4, 0));
+    // Outside the written voxels it reads the background.
+    EXPECT_EQ(sampler(xform->indexToWorld(Vec3d(100.5, -40.0, 3.0))), Vec3s(0.0f));
+}
+
+TEST(Interpolation, WorldSamplerWithAPointSamplerReadsTheNearestVoxel) {
+    auto grid = DoubleGrid::create(-1.0);
+    grid->setTransform(math::Transform::createLinearTransform(0.3));
+    grid->transform().postTranslate(Vec3d(0.1, -0.2, 0.05));
+    writeField(grid->tree(), -4, 4, [](const Vec3d& p) { return p[0] + 10 * p[1] + 100 * p[2]; });
+    const WorldSampler<DoubleGrid, PointSampler> sampler(*grid);
+    const GridSampler<DoubleGrid, PointSampler> gridSampler(*grid);
+    std::mt19937 rng(7);
+    for (int n = 0; n < 500; ++n) {
+        const Vec3d xyz = grid->transform().indexToWorld(randomPoint(rng, -3.4, 3.4));
+        const Vec3d ijk = grid->transform().worldToIndex(xyz);
+        const Coord nearest(int(std::lround(ijk[0])), int(std::lround(ijk[1])),
+                            int(std::lround(ijk[2])));
+        ASSERT_EQ(sampler(xyz), grid->tree().getValue(nearest)) << xyz;
+        ASSERT_EQ(sampler(xyz), gridSampler.wsSample(xyz));
+    }
 }
 
 }  // namespace

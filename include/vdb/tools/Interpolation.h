@@ -3,8 +3,9 @@
 /// Reconstruction of a continuous field from voxel values, with OpenVDB's samplers, names and
 /// arithmetic: PointSampler (nearest voxel), BoxSampler (trilinear, 8 voxels),
 /// QuadraticSampler (triquadratic, 27 voxels), their staggered forms for face-centred vector
-/// grids, GridSampler (index or world space through a grid's transform) and DualGridSampler
-/// (one grid read at the voxel centres of another).
+/// grids, GridSampler (index or world space through a grid's transform), DualGridSampler
+/// (one grid read at the voxel centres of another) and WorldSampler (a grid as a function of
+/// world position, one accessor per copy, for the field extension of FastSweeping.h).
 ///
 /// Index space is voxel-centred: the value of voxel (i, j, k) sits at the point (i, j, k), so
 /// sampling at an integer point returns that voxel's value exactly. Any object with
@@ -40,6 +41,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <type_traits>
 
 namespace vdb::tools {
@@ -243,6 +245,43 @@ private:
     const math::Transform* mSourceXform;
     const math::Transform* mTargetXform;
     bool mAligned;
+};
+
+/// A field of world position read from a grid, for the tools that take a function
+/// `op(const Vec3d& xyz) -> value` (the field extension of FastSweeping.h: fogToExt, sdfToExt):
+/// `sampler(xyz)` is `SamplerT`'s reconstruction of `grid` at the world position `xyz`, the
+/// same number as `GridSampler<GridT, SamplerT>(grid).wsSample(xyz)`, read through an accessor.
+///
+/// Each copy reads through its own accessor, made on its first call, so that tools that copy
+/// the functor once per thread read without locks; one object must not be called from two
+/// threads at once. The grid must outlive the sampler and its copies.
+///
+/// @code
+/// auto ext = vdb::tools::sdfToExt(surface, vdb::tools::WorldSampler(velocity),
+///                                 velocity.background());
+/// @endcode
+template <typename GridT, typename SamplerT = BoxSampler>
+class WorldSampler {
+public:
+    using ValueType = typename GridT::ValueType;
+
+    explicit WorldSampler(const GridT& grid) : mGrid(&grid) {}
+    /// A sampler of the same grid with an accessor of its own.
+    WorldSampler(const WorldSampler& other) : mGrid(other.mGrid) {}
+    WorldSampler& operator=(const WorldSampler&) = delete;
+
+    /// The reconstruction at the world position `xyz`.
+    ValueType operator()(const Vec3d& xyz) const {
+        if (!mAcc)
+            mAcc.emplace(mGrid->tree());
+        return ValueType(SamplerT::sample(*mAcc, mGrid->transform().worldToIndex(xyz)));
+    }
+
+    const GridT& grid() const { return *mGrid; }
+
+private:
+    const GridT* mGrid;
+    mutable std::optional<typename GridT::ConstAccessor> mAcc;
 };
 
 // ---- Implementation ---------------------------------------------------------------------------
