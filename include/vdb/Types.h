@@ -32,7 +32,43 @@ enum VecType {
 };
 inline constexpr int NUM_VEC_TYPES = VEC_CONTRAVARIANT_ABSOLUTE + 1;
 
-/// Which values a tree or node iterator visits.
+/// Which values a tree or node iterator, or a tree walk (tree/NodeEdit.h), visits.
 enum class ValueFilter { On, Off, All };
+
+/// What an operation of tools::combineExtended() sees at one place (OpenVDB's CombineArgs): a
+/// value of each tree with its active state, and the result it sets. The result is active
+/// where either input is, unless the operation calls setResultIsActive().
+template <typename AValueT, typename BValueT = AValueT>
+class CombineArgs {
+public:
+    CombineArgs(const AValueT& a, const BValueT& b, bool aIsActive, bool bIsActive)
+        : mA(&a),
+          mB(&b),
+          mResult(a),
+          mAOn(aIsActive),
+          mBOn(bIsActive),
+          mResultOn(aIsActive || bIsActive) {}
+    const AValueT& a() const { return *mA; }
+    const BValueT& b() const { return *mB; }
+    bool aIsActive() const { return mAOn; }
+    bool bIsActive() const { return mBOn; }
+    const AValueT& result() const { return mResult; }
+    AValueT& result() { return mResult; }
+    bool resultIsActive() const { return mResultOn; }
+    CombineArgs& setResult(const AValueT& value) {
+        mResult = value;
+        return *this;
+    }
+    CombineArgs& setResultIsActive(bool on) {
+        mResultOn = on;
+        return *this;
+    }
+
+private:
+    const AValueT* mA;
+    const BValueT* mB;
+    AValueT mResult;
+    bool mAOn, mBOn, mResultOn;
+};
 
 }  // namespace vdb

@@ -9,6 +9,7 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Grid.h>
 #include <vdb/math/Math.h>
+#include <vdb/tools/Composite.h>
 #include <vdb/tools/Dense.h>
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/tools/Prune.h>
@@ -244,64 +245,6 @@ void setBlock(TreeT& tree, Index level, const Coord& ijk, const typename TreeT::
     } else {
         tree.addTile(level, ijk, value, active);
     }
-}
-
-/// Gives `a` and `b` the same node structure without changing any value: wherever one stores a
-/// value at a finer level than the other, the other's tile is split down to that level.
-template <typename TreeT>
-void alignStructures(TreeT& a, TreeT& b) {
-    for (bool changed = true; changed;) {
-        changed = false;
-        for (int pass = 0; pass < 2; ++pass) {
-            TreeT& src = pass == 0 ? b : a;
-            TreeT& dst = pass == 0 ? a : b;
-            for (const auto& blk : collectBlocks(src, ValueFilter::All, true)) {
-                if (valueLevel(dst, blk.origin) <= blk.level)
-                    continue;
-                if (blk.level == 0) {
-                    dst.touchLeaf(blk.origin);
-                } else {
-                    typename TreeT::ValueType v;
-                    const bool on = dst.probeValue(blk.origin, v);
-                    dst.addTile(blk.level, blk.origin, v, on);
-                }
-                changed = true;
-            }
-        }
-    }
-}
-
-/// Calls `fn(aValue, aOn, bValue, bOn) -> (value, on)` for every pair of corresponding values
-/// of `a` and `b` (voxels and tiles, the background included) and stores the result in `a`;
-/// `b` is left empty. The structures are first aligned, so the two block lists correspond.
-template <typename TreeT, typename FnT>
-void combineTrees(TreeT& a, TreeT& b, const FnT& fn) {
-    using ValueT = typename TreeT::ValueType;
-    using LeafT = typename TreeT::LeafNodeType;
-    alignStructures(a, b);
-    auto aBlocks = collectBlocks(a, ValueFilter::All, true);
-    auto bBlocks = collectBlocks(b, ValueFilter::All, true);
-    if (aBlocks.size() != bBlocks.size())
-        throw std::logic_error("combine: the aligned trees differ in structure");
-    for (size_t i = 0; i < aBlocks.size(); ++i) {
-        auto& x = aBlocks[i];
-        auto& y = bBlocks[i];
-        if (x.leaf) {
-            const LeafT& yl = *y.leaf;
-            for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
-                auto [v, on] = fn(ValueT(x.leaf->getValue(n)), x.leaf->isValueOn(n),
-                                  ValueT(yl.getValue(n)), yl.isValueOn(n));
-                if (on)
-                    x.leaf->setValueOn(n, v);
-                else
-                    x.leaf->setValueOff(n, v);
-            }
-        } else {
-            auto [v, on] = fn(x.value, x.active, y.value, y.active);
-            a.addTile(x.level, x.origin, v, on);
-        }
-    }
-    b.clear();
 }
 
 // ---- The grid class
@@ -550,17 +493,19 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             checkUnpinned(&other.tree(), "combine");
             if (g.treePtr() == other.treePtr())
                 throw py::value_error("combine: the grids share one tree");
-            auto op = [&](const ValueT& a, bool aOn, const ValueT& b, bool bOn) {
-                return std::pair<ValueT, bool>(toValue<ValueT>(fn(a, b), "combine"), aOn || bOn);
-            };
-            const ValueT bg = op(g.background(), false, other.background(), false).first;
-            combineTrees(g.tree(), other.tree(), op);
-            g.tree().setBackground(bg);
+            // pyopenvdb's combine: Tree::combine with pruning, one Python call per value.
+            tools::combine(
+                g.tree(), other.tree(),
+                [&](const ValueT& a, const ValueT& b, ValueT& result) {
+                    result = toValue<ValueT>(fn(a, b), "combine");
+                },
+                /*prune=*/true, /*threaded=*/false);
         },
         py::arg("other"), py::arg("function"),
         "combine(grid, function): set every value (tile or voxel, and the background) of "
         "this grid to function(a, b) of it and the other grid's value there; a value is "
-        "active where either was. Empties the other grid.\n"
+        "active where either was; then prunes nodes left constant, as pyopenvdb does. Empties "
+        "the other grid.\n"
         "Example: grid.combine(other, lambda a, b: min(a, b))");
     cls.def(
         "merge",
@@ -570,11 +515,11 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             if (g.treePtr() == other.treePtr())
                 throw py::value_error("merge: the grids share one tree");
             py::gil_scoped_release release;
-            combineTrees(g.tree(), other.tree(),
-                         [](const ValueT& a, bool aOn, const ValueT& b, bool bOn) {
-                             return aOn || !bOn ? std::pair<ValueT, bool>(a, aOn)
-                                                : std::pair<ValueT, bool>(b, true);
-                         });
+            tools::combineExtended(g.tree(), other.tree(), [](CombineArgs<ValueT>& args) {
+                const bool takeB = !args.aIsActive() && args.bIsActive();
+                args.setResult(takeB ? args.b() : args.a());
+                args.setResultIsActive(args.aIsActive() || takeB);
+            });
         },
         py::arg("other"),
         "merge(grid): take the other grid's active values (voxels and tiles) wherever this "

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
-/// The tree walks of the Python module, written once: the blocks of a tree (its leaves and its
-/// tiles, in OpenVDB's iteration order), the level at which a coordinate's value
-/// is stored, and the registry of trees whose leaf buffers NumPy arrays view.
+/// The blocks of a tree as the Python module lists them (tree::visitBlocks(): its leaves and its
+/// tiles, in OpenVDB's iteration order), the level at which a coordinate's value is stored
+/// (the ProbeNode descent), and the registry of trees whose leaf buffers NumPy arrays view.
 
 #pragma once
 
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 
 #include <pybind11/pybind11.h>
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace vdb::python {
@@ -52,51 +54,6 @@ Int64 blockDim(Index level) {
     return dim;
 }
 
-namespace detail {
-
-template <typename TreeT, typename NodeT, typename FnT>
-void visitNode(NodeT& node, ValueFilter filter, bool withLeaves, const FnT& fn) {
-    using ValueT = typename TreeT::ValueType;
-    const auto tileSelected = [filter](bool active) {
-        return filter == ValueFilter::All || (filter == ValueFilter::On) == active;
-    };
-    if constexpr (NodeT::LEVEL == 0) {
-        if (withLeaves)
-            fn(Block<TreeT>{node.origin(), 0, &node, ValueT{}, false});
-    } else if constexpr (tree::IS_ROOT_NODE<NodeT>) {
-        // Root entries in (x, y, z) order, as OpenVDB's root map keeps them.
-        for (const Coord& key : node.sortedKeys()) {
-            auto& entry = *node.findEntry(key);
-            if (entry.child)
-                visitNode<TreeT>(*entry.child, filter, withLeaves, fn);
-            else if (tileSelected(entry.active))
-                fn(Block<TreeT>{key, NodeT::LEVEL, nullptr, entry.tile, entry.active});
-        }
-    } else {
-        const uint64_t* children = node.getChildMask().words();
-        const uint64_t* values = node.getValueMask().words();
-        for (Index w = 0; w < NodeT::NUM_VALUES / 64; ++w) {
-            uint64_t tiles = ~children[w];
-            if (filter == ValueFilter::On)
-                tiles &= values[w];
-            else if (filter == ValueFilter::Off)
-                tiles &= ~values[w];
-            uint64_t bits = children[w] | tiles;
-            while (bits) {
-                const Index n = w * 64 + Index(std::countr_zero(bits));
-                bits &= bits - 1;
-                if (auto* child = node.getChild(n))
-                    visitNode<TreeT>(*child, filter, withLeaves, fn);
-                else
-                    fn(Block<TreeT>{node.offsetToGlobalCoord(n), NodeT::LEVEL, nullptr,
-                                    node.getTileValue(n), ((values[w] >> (n & 63)) & 1) != 0});
-            }
-        }
-    }
-}
-
-}  // namespace detail
-
 /// Calls `fn(Block)` for every leaf (when `withLeaves`) and every tile selected by `filter`,
 /// depth first: root entries in (x, y, z) order of their keys (OpenVDB's order; the C++
 /// iterators follow the hash table's), each node's table in offset order.
@@ -104,7 +61,28 @@ void visitNode(NodeT& node, ValueFilter filter, bool withLeaves, const FnT& fn) 
 template <typename TreeT, typename FnT>
 void visitBlocks(TreeT& tree, ValueFilter filter, bool withLeaves, const FnT& fn) {
     using T = std::remove_const_t<TreeT>;
-    detail::visitNode<T>(const_cast<T&>(tree).topNode(), filter, withLeaves, fn);
+    using ValueT = typename T::ValueType;
+    const auto visit = [&]<ValueFilter F>() {
+        const auto onTile = [&](const auto& tile) {
+            fn(Block<T>{tile.origin, tile.level, nullptr, tile.value, tile.active});
+        };
+        const auto onLeaf = [&](typename T::LeafNodeType& leaf) {
+            fn(Block<T>{leaf.origin(), 0, &leaf, ValueT{}, false});
+        };
+        T& top = const_cast<T&>(tree);
+        if (withLeaves)
+            tree::visitBlocks<F>(top.topNode(), onTile, onLeaf);
+        else
+            tree::visitBlocks<F>(top.topNode(), onTile, nullptr);
+    };
+    switch (filter) {
+        case ValueFilter::On:
+            return visit.template operator()<ValueFilter::On>();
+        case ValueFilter::Off:
+            return visit.template operator()<ValueFilter::Off>();
+        case ValueFilter::All:
+            return visit.template operator()<ValueFilter::All>();
+    }
 }
 
 /// The blocks of `tree` as visitBlocks() finds them.
@@ -117,21 +95,19 @@ std::vector<Block<std::remove_const_t<TreeT>>> collectBlocks(TreeT& tree, ValueF
 }
 
 /// The level of the node that stores the value at `ijk` (0: a leaf voxel; the top level: a root
-/// tile or a region without an entry).
+/// tile or a region without an entry): the lowest level with a node holding `ijk`.
 template <typename TreeT>
 Index valueLevel(const TreeT& tree, const Coord& ijk) {
-    auto walk = [&]<typename NodeT>(auto& self, const NodeT& node) -> Index {
-        if constexpr (NodeT::LEVEL == 0) {
-            return 0;
-        } else if constexpr (tree::IS_ROOT_NODE<NodeT>) {
-            const auto* e = node.findEntry(NodeT::coordToKey(ijk));
-            return e && e->child ? self(self, *e->child) : NodeT::LEVEL;
-        } else {
-            const auto* child = node.getChild(NodeT::coordToOffset(ijk));
-            return child ? self(self, *child) : NodeT::LEVEL;
-        }
-    };
-    return walk(walk, tree.topNode());
+    using TopT = typename TreeT::TopNodeType;
+    Index level = TopT::LEVEL;
+    [&]<Index... L>(std::integer_sequence<Index, L...>) {
+        (void)((tree.template get<tree::ops::ProbeNode<tree::NodeAtLevelT<TopT, L>>>(ijk)
+                    ? (level = L, true)
+                    : false) ||
+               ...);
+    }
+    (std::make_integer_sequence<Index, TopT::LEVEL>{});
+    return level;
 }
 
 // ---- Leaf buffer views

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Oracle: OpenVDB 10. The same trees (ours converted node by node into OpenVDB's, then checked
-// equal) go through OpenVDB's csgUnion / csgIntersection / csgDifference and topologyUnion /
-// topologyIntersection / topologyDifference and through ours; the results must hold the same
-// values, states and tiles everywhere: every voxel and every tile of every level, compared bit
-// for bit, plus the background and the node counts.
+// equal) go through OpenVDB's csgUnion / csgIntersection / csgDifference, Tree::combine /
+// combineExtended and topologyUnion / topologyIntersection / topologyDifference and through ours;
+// the results must hold the same values, states and tiles everywhere: every voxel and every tile of
+// every level, compared bit for bit, plus the background and the node counts.
 
 #include <vdb/Grid.h>
 #include <vdb/tools/Composite.h>
@@ -319,6 +319,57 @@ TEST_F(CompositeCompat, CsgWithTilesAtEveryLevelMatchesOpenVdb) {
     b.fill(CoordBBox::createCube(Coord(4096, 0, 0), 4096), -bg, false);
     b.fill(CoordBBox::createCube(Coord(0, 896, 0), 128), -bg, false);
     compareCsg(a, b);
+}
+
+TEST_F(CompositeCompat, CombineAndCombineExtendedMatchOpenVdb) {
+    // tools::combine / combineExtended against Tree::combine / combineExtended, pruned and not:
+    // tiles at every level and leaves on both sides, different backgrounds, ops that leave
+    // constant leaves behind (pruned away) and one that chooses the result's state.
+    FloatTree a(2.0f), b(-1.5f);
+    a.fill(CoordBBox::createCube(Coord(-4096, 0, 0), 4096), -2.0f, true);
+    a.fill(CoordBBox::createCube(Coord(256, 0, 0), 128), 0.5f, false);
+    addSpheres(a,
+               {{100.0, 1000.0, 30.0, 12.0}, {-4000.0, 40.0, 30.0, 11.0}, {20.0, 20.0, 20.0, 9.0}});
+    addSpheres(b, {{300.0, 60.0, 70.0, 10.0}, {-5000.0, 9.0, 9.0, 9.0}, {24.0, 30.0, 20.0, 12.0}});
+    b.fill(CoordBBox::createCube(Coord(4096, 0, 0), 4096), 3.0f, false);
+    b.fill(CoordBBox::createCube(Coord(0, 896, 0), 128), -0.5f, true);
+    const auto ovA = toOvdbTree(a);
+    const auto ovB = toOvdbTree(b);
+    ASSERT_TRUE(sameTrees(a, *ovA));
+    ASSERT_TRUE(sameTrees(b, *ovB));
+    const auto clamp = [](const float& x, const float& y, float& r) {
+        r = std::min(std::max(x, y), 1.0f);
+    };
+    const auto blend = [](const float& x, const float& y, float& r) { r = 0.25f * x + y; };
+    const auto merge = [](auto& args) {
+        const bool takeB = !args.aIsActive() && args.bIsActive();
+        args.setResult(takeB ? args.b() : args.a());
+        args.setResultIsActive(args.aIsActive() || takeB);
+    };
+    for (bool prune : {false, true}) {
+        for (int op = 0; op < 3; ++op) {
+            SCOPED_TRACE(::testing::Message() << "op " << op << (prune ? " pruned" : ""));
+            FloatTree x(a), y(b);
+            auto ovX = std::make_shared<openvdb::FloatTree>(*ovA);
+            auto ovY = std::make_shared<openvdb::FloatTree>(*ovB);
+            if (op == 0) {
+                tools::combine(x, y, clamp, prune);
+                ovX->combine(*ovY, clamp, prune);
+            } else if (op == 1) {
+                tools::combine(x, y, blend, prune, false);
+                ovX->combine(*ovY, blend, prune);
+            } else {
+                tools::combineExtended(
+                    x, y, [&](CombineArgs<float>& args) { merge(args); }, prune);
+                ovX->combineExtended(
+                    *ovY, [&](openvdb::CombineArgs<float>& args) { merge(args); }, prune);
+            }
+            EXPECT_TRUE(sameTrees(x, *ovX));
+            EXPECT_EQ(x.nonLeafCount(), ovX->nonLeafCount());
+            EXPECT_TRUE(y.empty());
+            EXPECT_TRUE(ovY->empty());
+        }
+    }
 }
 
 TEST_F(CompositeCompat, CsgWithActiveAndZeroTilesMatchesOpenVdb) {

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // Oracle: two SparseVolumeModels (tests/support/Oracles.h) fed the same writes as trees A and B,
 // combined voxel by voxel: every voxel of A becomes op(a, b) and is active where either was
-// (compMax, compMin, compSum, compMul, compDiv), or takes B's value and state where B is
-// active (compReplace). Every voxel of a box around both contents is checked, through tiles
-// of either tree over leaves of the other; threaded runs must equal serial ones item for item.
+// (compMax, compMin, compSum, compMul, compDiv, combine), takes the value and state an extended
+// op chooses (combineExtended), or takes B's value and state where B is active (compReplace). Every
+// voxel of a box around both contents is checked, through tiles of either tree over leaves of the
+// other; threaded runs must equal serial ones item for item.
 
 #include <vdb/Grid.h>
 #include <vdb/tools/Composite.h>
@@ -153,6 +154,88 @@ TEST(CompositeOps, ReplaceCopiesTheActiveValuesOfB) {
     });
     EXPECT_TRUE(test::sameContents(b, bBefore));
     EXPECT_TRUE(test::sameContents(a, a2));
+}
+
+TEST(CompositeOps, CombineAppliesTheOpToEveryValue) {
+    // OpenVDB's form: op(a, b, result); tiles and leaves on both sides, the backgrounds too.
+    const auto op = [](float a, float b) { return 2.0f * a - b + 0.25f; };
+    checkCombine<FloatTree>(
+        0.5f, -1.0f,
+        [&](FloatTree& a, FloatTree& b, bool threaded) {
+            tools::combine(
+                a, b, [&](const float& x, const float& y, float& r) { r = op(x, y); },
+                /*prune=*/false, threaded);
+        },
+        op);
+    checkCombine<Int32Tree>(
+        Int32(3), Int32(-2),
+        [](Int32Tree& a, Int32Tree& b, bool threaded) {
+            tools::combine(
+                a, b, [](const Int32& x, const Int32& y, Int32& r) { r = x * 3 + y; }, false,
+                threaded);
+        },
+        [](Int32 a, Int32 b) { return a * 3 + b; });
+}
+
+TEST(CompositeOps, CombineExtendedSetsTheStatesTheOpChooses) {
+    // Active only where both are; the value of b where b alone is active.
+    const auto value = [](float a, bool aOn, float b, bool bOn) {
+        return bOn && !aOn ? b : a + 1.0f;
+    };
+    for (bool threaded : {false, true}) {
+        FloatTree a(0.5f), b(-1.0f);
+        SparseVolumeModel<float> ma(0.5f), mb(-1.0f);
+        populate(a, ma, 1);
+        populate(b, mb, 2);
+        tools::combineExtended(
+            a, b,
+            [&](CombineArgs<float>& args) {
+                args.setResult(value(args.a(), args.aIsActive(), args.b(), args.bIsActive()));
+                args.setResultIsActive(args.aIsActive() && args.bIsActive());
+            },
+            false, threaded);
+        EXPECT_TRUE(b.empty());
+        EXPECT_EQ(a.background(), 1.5f);
+        expectVoxels(a, kRegion, [&](const Coord& ijk) {
+            const bool aOn = ma.isValueOn(ijk), bOn = mb.isValueOn(ijk);
+            return std::pair<float, bool>(value(ma.getValue(ijk), aOn, mb.getValue(ijk), bOn),
+                                          aOn && bOn);
+        });
+    }
+}
+
+TEST(CompositeOps, CombineWithPruneCollapsesConstantNodesBelowTheTop) {
+    // A constant result: every leaf whose states are uniform becomes a tile, and so does every
+    // node left with uniform tiles, but the top node's children stay (as in OpenVDB).
+    FloatTree a(0.5f), b(-1.0f);
+    SparseVolumeModel<float> ma(0.5f), mb(-1.0f);
+    populate(a, ma, 1);
+    populate(b, mb, 2);
+    tools::combine(
+        a, b, [](const float&, const float&, float& r) { r = 7.0f; }, true);
+    expectVoxels(a, kRegion, [&](const Coord& ijk) {
+        return std::pair<float, bool>(7.0f, ma.isValueOn(ijk) || mb.isValueOn(ijk));
+    });
+    EXPECT_GT(a.leafCount(), 0u);
+    for (auto leaf = a.cbeginLeaf(); leaf; ++leaf) {
+        const auto& mask = leaf->getValueMask();
+        EXPECT_FALSE(mask.isOn() || mask.isOff()) << leaf->origin();
+    }
+    FloatTree same(a);
+    same.prune();
+    EXPECT_EQ(a.leafCount(), same.leafCount());
+    // The root's children are not pruned: a level-2 node of only active 7s stays.
+    FloatTree c(0.0f), d(0.0f);
+    c.fill(CoordBBox::createCube(Coord(0), 4096), 1.0f, true);
+    c.setValueOn(Coord(1), 2.0f);  // a branch down to a leaf below the root tile
+    tools::combine(
+        c, d, [](const float&, const float&, float& r) { r = 7.0f; }, true);
+    EXPECT_EQ(c.leafCount(), 0u);
+    EXPECT_EQ(c.nonLeafCount(), 2u);  // the root and its child, now constant
+    EXPECT_EQ(c.getValue(Coord(1)), 7.0f);
+    EXPECT_THROW(tools::combine(
+                     c, c, [](const float&, const float&, float& r) { r = 0.0f; }, true),
+                 ValueError);
 }
 
 TEST(CompositeOps, GridFormsCheckTransforms) {

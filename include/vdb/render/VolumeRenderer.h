@@ -338,7 +338,7 @@ namespace detail {
 template <typename NodeT, typename F>
 void forEachActiveTile(const NodeT& node, const F& f) {
     using ChildT = typename NodeT::ChildNodeType;
-    tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto& tile) {
+    tree::forEachTile<ValueFilter::On>(node, [&](const auto& tile) {
         f(CoordBBox::createCube(tile.origin, Int32(ChildT::DIM)), tile.value);
     });
     if constexpr (ChildT::LEVEL > 0)

@@ -76,7 +76,7 @@ void setStatesWhere(TreeT& tree, const MatchT& matches, bool threaded) {
     constexpr Index TOP = TopT::LEVEL;
 
     // The tiles of one node (internal or root) not yet in state On.
-    constexpr auto FILTER = On ? tree::TileFilter::Inactive : tree::TileFilter::Active;
+    constexpr auto FILTER = On ? ValueFilter::Off : ValueFilter::On;
     const auto visitTiles = [&](auto& node) {
         using NodeT = std::remove_reference_t<decltype(node)>;
         tree::forEachTile<FILTER>(node, [&](auto& tile) {

@@ -118,32 +118,6 @@ Int32 tileDim(Index level) {
     return dim;
 }
 
-/// Calls fn(level, origin, value) for every tile of `tree` below the top node (and of a bounded top
-/// node) whose state is `active`; with a root on top also for its tiles of that state.
-template <typename TreeT, typename FnT>
-void forEachTile(const TreeT& tree, bool active, const FnT& fn) {
-    using TopT = typename TreeT::TopNodeType;
-    const auto visit = [&](const auto& node) {
-        using NodeT = std::remove_cvref_t<decltype(node)>;
-        const auto call = [&](const auto& tile) { fn(NodeT::LEVEL, tile.origin, tile.value); };
-        if (active) {
-            tree::forEachTile<tree::TileFilter::Active>(node, call);
-        } else {
-            tree::forEachTile<tree::TileFilter::Inactive>(node, call);
-        }
-    };
-    NodeLists<const TreeT> lists(tree, 1);
-    const auto visitAll = [&](const auto& nodes) {
-        for (const auto* node : nodes)
-            visit(*node);
-    };
-    [&]<Index... L>(std::integer_sequence<Index, L...>) {
-        (visitAll(lists.template nodes<L + 1>()), ...);
-    }
-    (std::make_integer_sequence<Index, TopT::LEVEL - 1>{});
-    visit(tree.topNode());
-}
-
 /// The voxels of `tree` that a box or mask clip can keep, as a mask tree of the same layout:
 /// the active topology and, for a level set, the inactive voxels and internal-node tiles with
 /// a negative value.
@@ -156,10 +130,10 @@ MaskTreeT clipCandidates(const TreeT& tree, bool levelSet, bool threaded) {
         if (!levelSet)
             return candidates;
         // Inside tiles below the root.
-        forEachTile(tree, false, [&](Index level, const Coord& origin, const ValueT& value) {
-            if (level < TreeT::TopNodeType::LEVEL || TreeT::BOUNDED) {
-                if (value < ValueT(0))
-                    candidates.addTile(level, origin, true, true);
+        tree::visitTiles<ValueFilter::Off>(tree.topNode(), [&](const auto& tile) {
+            if (tile.level < TreeT::TopNodeType::LEVEL || TreeT::BOUNDED) {
+                if (tile.value < ValueT(0))
+                    candidates.addTile(tile.level, tile.origin, true, true);
             }
         });
         // Inside voxels of the leaves.
@@ -188,10 +162,10 @@ std::shared_ptr<TreeT> copyKept(const TreeT& tree, const MaskTreeT& keep, bool t
     using MaskLeafT = typename MaskTreeT::LeafNodeType;
     auto out = std::make_shared<TreeT>(tree.background());
     // Tiles: the tree is constant over each tile of `keep`.
-    forEachTile(keep, true, [&](Index level, const Coord& origin, const auto&) {
+    tree::visitTiles<ValueFilter::On>(keep.topNode(), [&](const auto& tile) {
         ValueT value;
-        const bool active = tree.probeValue(origin, value);
-        out->addTile(level, origin, value, active);
+        const bool active = tree.probeValue(tile.origin, value);
+        out->addTile(tile.level, tile.origin, value, active);
     });
     // Leaves, built in parallel and linked serially.
     std::vector<const MaskLeafT*> masks;
@@ -285,9 +259,8 @@ OutMaskTreeT resampleMask(const Grid<MaskTreeT>& mask, const math::Transform& to
         if (!leaf->getValueMask().isOff())
             addRegion(leaf->getNodeBoundingBox());
     }
-    forEachTile(mask.tree(), true, [&](Index level, const Coord& origin, const auto&) {
-        addRegion(CoordBBox::createCube(origin, tileDim<MaskTreeT>(level)));
-    });
+    tree::visitTiles<ValueFilter::On>(mask.tree().topNode(),
+                                      [&](const auto& tile) { addRegion(tile.bbox()); });
     // Each leaf of `to`: one mapped lookup per voxel.
     std::vector<Coord> list(origins.begin(), origins.end());
     std::vector<std::unique_ptr<OutLeafT>> leaves(list.size());
@@ -439,14 +412,10 @@ typename Grid<TreeT>::Ptr clip(const Grid<TreeT>& grid, const math::Transform& f
             }
         }
     };
-    for (bool state : {true, false}) {
-        detail::forEachTile(tree, state,
-                            [&](Index level, const Coord& origin, const ValueT& value) {
-                                if (!state && math::isApproxEqual(value, background))
-                                    return;
-                                splitTile(splitTile, level, origin, value, state);
-                            });
-    }
+    tree::visitTiles<ValueFilter::All>(tree.topNode(), [&](const auto& tile) {
+        if (tile.active || !math::isApproxEqual(tile.value, background))
+            splitTile(splitTile, tile.level, tile.origin, tile.value, tile.active);
+    });
     // Leaves: copied whole when inside, voxel by voxel when straddling.
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
         const int c = test.classify(leaf->getNodeBoundingBox());

@@ -63,6 +63,7 @@
 #include <vdb/tools/detail/CompositeImpl.h>
 #include <vdb/tools/detail/LeafPairs.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 
 #include <algorithm>
@@ -143,6 +144,24 @@ void compDiv(TreeT& a, TreeT& b, bool threaded = true);
 /// Copies the active values of `b` into `a`, activating them; `b` is not changed.
 template <VdbTree TreeT>
 void compReplace(TreeT& a, const TreeT& b, bool threaded = true);
+
+/// OpenVDB's Tree::combine(): every value of `a`, voxel or tile, active or not, becomes the
+/// result of `op(aValue, bValue, result)` (ValueType arguments, the result by reference) of the
+/// values `a` and `b` hold there, active where either was active; `a`'s background becomes op
+/// of the two backgrounds. The rules of compMax() apply (b's branches are moved into `a`; `b`
+/// is left empty). With `prune`, the children of a's top node are then pruned (exactly equal
+/// values), as OpenVDB prunes them. `op` runs on several threads when `threaded`.
+/// @throw ValueError when `a` and `b` are the same tree.
+///
+/// @code
+/// vdb::tools::combine(treeA, treeB, [](float a, float b, float& r) { r = 0.25f * a + b; });
+/// @endcode
+template <VdbTree TreeT, typename OpT>
+void combine(TreeT& a, TreeT& b, const OpT& op, bool prune = false, bool threaded = true);
+/// OpenVDB's Tree::combineExtended(): as combine(), with `op(CombineArgs<ValueType>&)` (Types.h),
+/// which sees the active states of both values and may set the result's.
+template <VdbTree TreeT, typename OpT>
+void combineExtended(TreeT& a, TreeT& b, const OpT& op, bool prune = false, bool threaded = true);
 
 /// The grid forms work on the grids' trees; transforms and metadata are not changed.
 /// @throw ValueError when the grids' transforms differ by more than a relative 1e-6.
@@ -384,6 +403,18 @@ void combineTrees(TreeT& a, TreeT& b, const OpT& op, bool threaded, const char* 
     CombineTrees<TreeT, OpT>(a, b, op).run(threaded);
 }
 
+/// Prunes the children of the top node of `tree` (exactly equal values), not the top node's
+/// own entries: what OpenVDB's combine does with `prune`.
+template <typename TreeT>
+void pruneBelowTop(TreeT& tree) {
+    tree::forEachChild(tree.topNode(), [](auto& child) {
+        using ChildT = std::remove_cvref_t<decltype(child)>;
+        if constexpr (ChildT::LEVEL > 0)
+            child.prune(typename ChildT::ValueType{});
+    });
+    tree.clearAllAccessors();
+}
+
 template <typename TreeT, typename OpT>
 void combineGrids(Grid<TreeT>& a, Grid<TreeT>& b, const OpT& op, bool threaded, const char* name) {
     checkMatchingTransforms(a, b, name);
@@ -391,6 +422,31 @@ void combineGrids(Grid<TreeT>& a, Grid<TreeT>& b, const OpT& op, bool threaded, 
 }
 
 }  // namespace detail
+
+template <VdbTree TreeT, typename OpT>
+void combineExtended(TreeT& a, TreeT& b, const OpT& op, bool prune, bool threaded) {
+    static_assert(std::is_invocable_v<const OpT&, CombineArgs<typename TreeT::ValueType>&>,
+                  "combineExtended: op must take a CombineArgs<ValueType>&");
+    detail::combineTrees(a, b, op, threaded, "combineExtended");
+    if (prune)
+        detail::pruneBelowTop(a);
+}
+
+template <VdbTree TreeT, typename OpT>
+void combine(TreeT& a, TreeT& b, const OpT& op, bool prune, bool threaded) {
+    using ValueT = typename TreeT::ValueType;
+    static_assert(std::is_invocable_v<const OpT&, const ValueT&, const ValueT&, ValueT&>,
+                  "combine: op must be op(const ValueType& a, const ValueType& b, ValueType& r)");
+    // A plain op: the leaves' active masks are or-ed a word at a time.
+    const auto plain = [&op](const ValueT& x, const ValueT& y) {
+        ValueT result = x;
+        op(x, y, result);
+        return result;
+    };
+    detail::combineTrees(a, b, plain, threaded, "combine");
+    if (prune)
+        detail::pruneBelowTop(a);
+}
 
 template <VdbTree TreeT>
 void compMax(TreeT& a, TreeT& b, bool threaded) {

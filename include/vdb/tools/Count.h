@@ -91,8 +91,8 @@ math::MinMax<typename TreeT::ValueType> minMax(const TreeT& tree, bool threaded)
             return a;
         },
         threaded, 16);
-    detail::visitTiles<ValueFilter::On>(tree.topNode(),
-                                        [&](const CoordBBox&, const ValueT& v) { range.add(v); });
+    tree::visitTiles<ValueFilter::On>(tree.topNode(),
+                                      [&](const auto& tile) { range.add(tile.value); });
     if (!range.min)
         return math::MinMax<ValueT>(ValueT{}, ValueT{});
     return math::MinMax<ValueT>(*range.min, *range.max);

@@ -273,7 +273,7 @@ void pruneBottomUp(TreeT& tree, const DecideT& decide, bool threaded) {
     // A root keeps no entry that reads as its background (as OpenVDB's prune does).
     if constexpr (tree::IS_ROOT_NODE<TopT>) {
         std::vector<Coord> background;
-        tree::forEachTile<tree::TileFilter::Inactive>(top, [&](const auto& tile) {
+        tree::forEachTile<ValueFilter::Off>(top, [&](const auto& tile) {
             if (math::isApproxEqual(tile.value, top.background()))
                 background.push_back(tile.origin);
         });

@@ -22,6 +22,7 @@
 #include <vdb/math/Stats.h>
 #include <vdb/math/Vec3.h>
 #include <vdb/tree/LeafManager.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/Tree.h>
 #include <vdb/util/Parallel.h>
 
@@ -69,41 +70,6 @@ struct IterTraits<tree::TreeValueIterator<TreeT, F>> {
     using TreeType = std::remove_const_t<TreeT>;
     static constexpr ValueFilter FILTER = F;
 };
-
-/// True when `state` is one that filter `F` visits.
-template <ValueFilter F>
-constexpr bool visits(bool state) {
-    return F == ValueFilter::All || (F == ValueFilter::On) == state;
-}
-
-/// Calls `f(box, value)` for every tile of `node` and its descendants whose state filter `F`
-/// visits, with `box` the tile's region, in table order (root entries in key order), depth
-/// first.
-template <ValueFilter F, typename NodeT, typename FuncT>
-void visitTiles(const NodeT& node, const FuncT& f) {
-    using ChildT = typename NodeT::ChildNodeType;
-    const Int32 dim = Int32(ChildT::DIM);
-    if constexpr (tree::IS_ROOT_NODE<NodeT>) {
-        for (const Coord& key : node.sortedKeys()) {
-            const auto* e = node.findEntry(key);
-            if (e->child) {
-                if constexpr (ChildT::LEVEL > 0)
-                    visitTiles<F>(*e->child, f);
-            } else if (visits<F>(e->active)) {
-                f(CoordBBox::createCube(key, dim), e->tile);
-            }
-        }
-    } else {
-        for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
-            if (node.isChild(n)) {
-                if constexpr (ChildT::LEVEL > 0)
-                    visitTiles<F>(*node.getChild(n), f);
-            } else if (visits<F>(node.isTileOn(n))) {
-                f(CoordBBox::createCube(node.offsetToGlobalCoord(n), dim), node.getTileValue(n));
-            }
-        }
-    }
-}
 
 /// Adds to a fresh `AccT` (Stats, Extrema or Histogram, made by `make()`) every value that the
 /// iterator `iter` visits, with `add(acc, value, count)`.
@@ -153,8 +119,8 @@ auto accumulate(const IterT& iter, const MakeT& make, const AddT& add, bool thre
         },
         threaded, 16);
     // Tiles, node by node from the top, in table order.
-    visitTiles<F>(tree.topNode(), [&](const CoordBBox& box, const auto& value) {
-        add(result, sampleOf(value), Index64(box.volume()));
+    tree::visitTiles<F>(tree.topNode(), [&](const auto& tile) {
+        add(result, sampleOf(tile.value), Index64(tile.bbox().volume()));
     });
     return result;
 }

@@ -9,6 +9,7 @@
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/tree/AccessOps.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/util/Assert.h>
 #include <vdb/util/BitMask.h>
@@ -77,7 +78,7 @@ struct CenteredDomain {};
 /// bounded tree, which covers the centered cube [-DIM/2, DIM/2) (offsets wrap modulo DIM).
 /// Threads: concurrent const calls are safe; any mutation needs exclusive access.
 template <typename ChildT, Index Log2Dim>
-class InternalNode {
+class InternalNode : public NodeCounters<InternalNode<ChildT, Log2Dim>> {
     static_assert(Log2Dim >= 1 && Log2Dim <= 10,
                   "an internal node has 2 to 1024 children per axis");
     static_assert(Log2Dim + ChildT::TOTAL <= 30, "a node may span at most 2^30 voxels per axis");
@@ -176,16 +177,8 @@ public:
     /// True when the node has no children and no active tile, and every tile is `background`.
     bool isBackground(const ValueType& background) const;
 
-    // ---- Statistics
-    Index64 onVoxelCount() const;
-    Index64 offVoxelCount() const;
-    Index64 onLeafVoxelCount() const;
-    Index64 offLeafVoxelCount() const;
-    Index64 onTileCount() const;
-    Index32 leafCount() const;
-    Index32 nonLeafCount() const;
+    // ---- Statistics (the counters: NodeCounters, NodeEdit.h)
     Index64 memUsage() const;
-    void evalActiveBoundingBox(CoordBBox& bbox) const;
 
     // ---- Table entries (offsets are in [0, NUM_VALUES))
     const MaskType& getChildMask() const { return mChildMask; }
@@ -297,13 +290,7 @@ auto InternalNode<ChildT, Log2Dim>::getAndCache(const Coord& ijk, AccT& acc, Arg
     const Index n = coordToOffset(ijk);
     if (!mChildMask.isOn(n))
         return OpT::tile(mTable[n].value, mValueMask.isOn(n), args...);
-    const ChildT* child = mTable[n].child;
-    acc.insert(ijk, child);
-    if constexpr (ChildT::LEVEL == 0) {
-        return OpT::leaf(*child, ChildT::coordToOffset(ijk), args...);
-    } else {
-        return child->template getAndCache<OpT>(ijk, acc, args...);
-    }
+    return descend<OpT>(*mTable[n].child, ijk, acc, args...);
 }
 
 template <typename ChildT, Index Log2Dim>
@@ -489,99 +476,10 @@ void InternalNode<ChildT, Log2Dim>::clear(const ValueType& value) {
 }
 
 template <typename ChildT, Index Log2Dim>
-Index64 InternalNode<ChildT, Log2Dim>::onVoxelCount() const {
-    Index64 sum = detail::saturatingMul(mValueMask.countOn(), ChildT::NUM_VOXELS);
-    for (Index n : mChildMask.onBits())
-        sum = detail::saturatingAdd(sum, mTable[n].child->onVoxelCount());
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
-Index64 InternalNode<ChildT, Log2Dim>::offVoxelCount() const {
-    const Index tilesOff = NUM_VALUES - mValueMask.countOn() - mChildMask.countOn();
-    Index64 sum = detail::saturatingMul(tilesOff, ChildT::NUM_VOXELS);
-    for (Index n : mChildMask.onBits())
-        sum = detail::saturatingAdd(sum, mTable[n].child->offVoxelCount());
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
-Index64 InternalNode<ChildT, Log2Dim>::onLeafVoxelCount() const {
-    Index64 sum = 0;
-    for (Index n : mChildMask.onBits()) {
-        if constexpr (ChildT::LEVEL == 0) {
-            sum += mTable[n].child->onVoxelCount();
-        } else {
-            sum += mTable[n].child->onLeafVoxelCount();
-        }
-    }
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
-Index64 InternalNode<ChildT, Log2Dim>::offLeafVoxelCount() const {
-    Index64 sum = 0;
-    for (Index n : mChildMask.onBits()) {
-        if constexpr (ChildT::LEVEL == 0) {
-            sum += mTable[n].child->offVoxelCount();
-        } else {
-            sum += mTable[n].child->offLeafVoxelCount();
-        }
-    }
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
-Index64 InternalNode<ChildT, Log2Dim>::onTileCount() const {
-    Index64 sum = mValueMask.countOn();
-    if constexpr (ChildT::LEVEL > 0) {
-        for (Index n : mChildMask.onBits())
-            sum += mTable[n].child->onTileCount();
-    }
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
-Index32 InternalNode<ChildT, Log2Dim>::leafCount() const {
-    if constexpr (ChildT::LEVEL == 0) {
-        return mChildMask.countOn();
-    } else {
-        Index32 sum = 0;
-        for (Index n : mChildMask.onBits())
-            sum += mTable[n].child->leafCount();
-        return sum;
-    }
-}
-
-template <typename ChildT, Index Log2Dim>
-Index32 InternalNode<ChildT, Log2Dim>::nonLeafCount() const {
-    Index32 sum = 1;
-    if constexpr (ChildT::LEVEL > 0) {
-        for (Index n : mChildMask.onBits())
-            sum += mTable[n].child->nonLeafCount();
-    }
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
 Index64 InternalNode<ChildT, Log2Dim>::memUsage() const {
-    Index64 sum = sizeof(InternalNode) + decltype(mTable)::heapBytes();
-    for (Index n : mChildMask.onBits())
-        sum += mTable[n].child->memUsage();
-    return sum;
-}
-
-template <typename ChildT, Index Log2Dim>
-void InternalNode<ChildT, Log2Dim>::evalActiveBoundingBox(CoordBBox& bbox) const {
-    for (Index n : mValueMask.onBits()) {
-        bbox.expand(CoordBBox::createCube(offsetToGlobalCoord(n), Int32(ChildT::DIM)));
-    }
-    for (Index n : mChildMask.onBits()) {
-        const ChildT* child = mTable[n].child;
-        if (bbox.isInside(child->getNodeBoundingBox()))
-            continue;
-        child->evalActiveBoundingBox(bbox);
-    }
+    Index64 bytes = sizeof(InternalNode) + decltype(mTable)::heapBytes();
+    forEachChild(*this, [&bytes](const ChildT& child) { bytes += child.memUsage(); });
+    return bytes;
 }
 
 }  // namespace vdb::tree

@@ -8,6 +8,7 @@
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/tree/InternalNode.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/RootTable.h>
 #include <vdb/util/Assert.h>
@@ -27,7 +28,7 @@ namespace vdb::tree {
 /// Invariant: an entry holds a child or a tile, never both; keys are child origins.
 /// Threads: concurrent const calls are safe; any mutation needs exclusive access.
 template <typename ChildT, typename TableT = HashTable>
-class RootNode {
+class RootNode : public NodeCounters<RootNode<ChildT, TableT>> {
 public:
     using ChildNodeType = ChildT;
     using LeafNodeType = typename ChildT::LeafNodeType;
@@ -87,16 +88,8 @@ public:
     void clear();
     bool empty() const { return mTable.size() == 0; }
 
-    // ---- Statistics
-    Index64 onVoxelCount() const;
-    Index64 offVoxelCount() const;
-    Index64 onLeafVoxelCount() const;
-    Index64 offLeafVoxelCount() const;
-    Index64 onTileCount() const;
-    Index32 leafCount() const;
-    Index32 nonLeafCount() const;
+    // ---- Statistics (the counters: NodeCounters, NodeEdit.h)
     Index64 memUsage() const;
-    void evalActiveBoundingBox(CoordBBox& bbox) const;
 
     // ---- Entries
     size_t entryCount() const { return mTable.size(); }
@@ -168,9 +161,7 @@ auto RootNode<ChildT, TableT>::getAndCache(const Coord& ijk, AccT& acc, ArgsT&&.
         return OpT::tile(mBackground, false, args...);
     if (!e->child)
         return OpT::tile(e->tile, e->active, args...);
-    const ChildT* child = e->child;
-    acc.insert(ijk, child);
-    return child->template getAndCache<OpT>(ijk, acc, args...);
+    return descend<OpT>(*e->child, ijk, acc, args...);
 }
 
 template <typename ChildT, typename TableT>
@@ -320,107 +311,10 @@ std::vector<Coord> RootNode<ChildT, TableT>::sortedKeys() const {
 }
 
 template <typename ChildT, typename TableT>
-Index64 RootNode<ChildT, TableT>::onVoxelCount() const {
-    Index64 sum = 0;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        const Entry& e = entry(c);
-        if (e.child) {
-            sum = detail::saturatingAdd(sum, e.child->onVoxelCount());
-        } else if (e.active) {
-            sum = detail::saturatingAdd(sum, ChildT::NUM_VOXELS);
-        }
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-Index64 RootNode<ChildT, TableT>::offVoxelCount() const {
-    Index64 sum = 0;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        const Entry& e = entry(c);
-        if (e.child) {
-            sum = detail::saturatingAdd(sum, e.child->offVoxelCount());
-        } else if (!e.active && !(e.tile == mBackground)) {
-            sum = detail::saturatingAdd(sum, ChildT::NUM_VOXELS);
-        }
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-Index64 RootNode<ChildT, TableT>::onLeafVoxelCount() const {
-    Index64 sum = 0;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        if (const ChildT* child = entry(c).child)
-            sum += child->onLeafVoxelCount();
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-Index64 RootNode<ChildT, TableT>::offLeafVoxelCount() const {
-    Index64 sum = 0;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        if (const ChildT* child = entry(c).child)
-            sum += child->offLeafVoxelCount();
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-Index64 RootNode<ChildT, TableT>::onTileCount() const {
-    Index64 sum = 0;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        const Entry& e = entry(c);
-        if (e.child) {
-            sum += e.child->onTileCount();
-        } else if (e.active) {
-            ++sum;
-        }
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-Index32 RootNode<ChildT, TableT>::leafCount() const {
-    Index32 sum = 0;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        if (const ChildT* child = entry(c).child)
-            sum += child->leafCount();
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-Index32 RootNode<ChildT, TableT>::nonLeafCount() const {
-    Index32 sum = 1;
-    for (auto c = cbegin(); valid(c); next(c)) {
-        if (const ChildT* child = entry(c).child)
-            sum += child->nonLeafCount();
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
 Index64 RootNode<ChildT, TableT>::memUsage() const {
-    Index64 sum = sizeof(RootNode) + mTable.memUsage();
-    for (auto c = cbegin(); valid(c); next(c)) {
-        if (const ChildT* child = entry(c).child)
-            sum += child->memUsage();
-    }
-    return sum;
-}
-
-template <typename ChildT, typename TableT>
-void RootNode<ChildT, TableT>::evalActiveBoundingBox(CoordBBox& bbox) const {
-    for (auto c = cbegin(); valid(c); next(c)) {
-        const Entry& e = entry(c);
-        if (e.child) {
-            e.child->evalActiveBoundingBox(bbox);
-        } else if (e.active) {
-            bbox.expand(CoordBBox::createCube(key(c), Int32(ChildT::DIM)));
-        }
-    }
+    Index64 bytes = sizeof(RootNode) + mTable.memUsage();
+    forEachChild(*this, [&bytes](const ChildT& child) { bytes += child.memUsage(); });
+    return bytes;
 }
 
 }  // namespace vdb::tree

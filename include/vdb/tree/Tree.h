@@ -148,14 +148,19 @@ public:
     bool probeValue(const Coord& ijk, ValueType& value) const {
         return get<ops::ProbeValue>(ijk, value);
     }
-    /// Applies the read operation `OpT` (AccessOps.h) at the tile or the leaf holding `ijk`;
-    /// outside a bounded tree's domain, at the background, inactive.
+    /// Applies the read operation `OpT` (AccessOps.h) at the tile or the leaf (or, for an op
+    /// that stops above the leaves, the node) holding `ijk`; outside a bounded tree's domain,
+    /// at the background, inactive.
     template <typename OpT, typename... ArgsT>
     AccessResult<OpT, LeafNodeType, ArgsT...> get(const Coord& ijk, ArgsT&&... args) const {
         if (!inDomain(ijk))
             return OpT::tile(mBackground, false, args...);
-        detail::NoCache none;
-        return mTop->template getAndCache<OpT>(ijk, none, args...);
+        if constexpr (STOP_LEVEL<OpT> == TopT::LEVEL) {
+            return applyAt<OpT>(*mTop, ijk, args...);
+        } else {
+            detail::NoCache none;
+            return mTop->template getAndCache<OpT>(ijk, none, args...);
+        }
     }
     /// Sets the value at `ijk` and activates it, allocating nodes as needed.
     void setValue(const Coord& ijk, const ValueType& value) { setValueOn(ijk, value); }

@@ -76,9 +76,13 @@ public:
     template <typename OpT, typename... ArgsT>
     AccessResult<OpT, LeafNodeType, ArgsT...> get(const Coord& ijk, ArgsT&&... args) const {
         sync();
-        if (hit<0>(ijk))
-            return OpT::leaf(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk), args...);
-        return getMiss<OpT>(ijk[0], ijk[1], ijk[2], args...);
+        if constexpr (STOP_LEVEL < OpT >> 0) {
+            return getFrom<STOP_LEVEL<OpT>, OpT>(ijk, args...);
+        } else {
+            if (hit<0>(ijk))
+                return OpT::leaf(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk), args...);
+            return getMiss<OpT>(ijk[0], ijk[1], ijk[2], args...);
+        }
     }
 
     // ---- Writes (not on a const tree); writes outside a bounded tree's domain throw IndexError
@@ -192,11 +196,19 @@ private:
         if constexpr (L == TOP) {
             if (!TreeType::inDomain(ijk))
                 return OpT::tile(mTree->background(), false, args...);
-            return mTree->topNode().template getAndCache<OpT>(ijk, *this, args...);
+            if constexpr (STOP_LEVEL<OpT> == TOP) {
+                return applyAt<OpT>(mTree->topNode(), ijk, args...);
+            } else {
+                return mTree->topNode().template getAndCache<OpT>(ijk, *this, args...);
+            }
         } else {
             if (!hit<L>(ijk))
                 return getFrom<L + 1, OpT>(ijk, args...);
-            return std::get<L>(mNodes)->template getAndCache<OpT>(ijk, *this, args...);
+            if constexpr (L == STOP_LEVEL<OpT>) {
+                return applyAt<OpT>(*std::get<L>(mNodes), ijk, args...);
+            } else {
+                return std::get<L>(mNodes)->template getAndCache<OpT>(ijk, *this, args...);
+            }
         }
     }
 

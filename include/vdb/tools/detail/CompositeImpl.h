@@ -582,14 +582,16 @@ private:
 
 /// Combines tree `b` into tree `a` value by value, with the rules of OpenVDB 10's
 /// Tree::combineExtended: every value of `a` becomes op(a, b) of the values both trees hold
-/// there, active when either was active, and `b` is left empty.
+/// there, active when either was active, and `b` is left empty. An op that takes a
+/// CombineArgs (an extended op) sets the result and its active state itself.
 ///
 /// - Two tiles (a missing root entry counts as an inactive tile of its tree's background) give
 ///   one tile. A tile over a child of the other tree is combined with every value of that
 ///   branch: a's child keeps its place; b's child is moved into `a` (op still takes a's tile as
 ///   its first argument).
-/// - Two leaves combine voxel by voxel; their active masks are or-ed a word at a time.
-/// - The result's background is op(background of a, background of b).
+/// - Two leaves combine voxel by voxel; for a plain op their active masks are or-ed a word at
+///   a time.
+/// - The result's background is op(background of a, background of b), both inactive.
 ///
 /// Threads: the walk over the internal nodes is serial; the leaves are combined in parallel,
 /// each by one task, so results do not depend on the thread count. A bounded tree's top node
@@ -600,6 +602,7 @@ public:
     using ValueT = typename TreeT::ValueType;
     using TopT = typename TreeT::TopNodeType;
     using LeafT = typename TreeT::LeafNodeType;
+    static constexpr bool EXTENDED = std::is_invocable_v<const OpT&, CombineArgs<ValueT>&>;
 
     CombineTrees(TreeT& a, TreeT& b, const OpT& op) : mA(a), mB(b), mOp(op) {}
 
@@ -616,7 +619,7 @@ public:
         util::parallelFor(
             mLeafTiles.size(), [this](size_t i) { combineLeafWithTile(mLeafTiles[i]); }, threaded,
             4);
-        mA.setBackground(mOp(mA.background(), mB.background()));
+        mA.setBackground(combined(mA.background(), false, mB.background(), false).first);
         mB.clear();
         mA.clearAllAccessors();
     }
@@ -630,25 +633,57 @@ private:
         bool swapped;
     };
 
-    ValueT apply(const ValueT& x, const ValueT& tile, bool swapped) const {
-        return swapped ? mOp(tile, x) : mOp(x, tile);
+    /// op of a value of `a` and a value of `b` and their states: the result and its state.
+    std::pair<ValueT, bool> combined(const ValueT& a, bool aOn, const ValueT& b, bool bOn) const {
+        if constexpr (EXTENDED) {
+            CombineArgs<ValueT> args(a, b, aOn, bOn);
+            mOp(args);
+            return {args.result(), args.resultIsActive()};
+        } else {
+            return {mOp(a, b), aOn || bOn};
+        }
+    }
+    /// combined() of a value `x` of the branch and a tile of the other tree.
+    std::pair<ValueT, bool> withTile(const ValueT& x, bool xOn, const ValueT& tile, bool tileOn,
+                                     bool swapped) const {
+        return swapped ? combined(tile, tileOn, x, xOn) : combined(x, xOn, tile, tileOn);
     }
 
     void combineLeaves(LeafT& a, const LeafT& b) const {
-        for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
-            a.setValueOnly(n, mOp(a.getValue(n), b.getValue(n)));
-        auto& mask = a.getValueMask();
-        for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w)
-            mask.getWord(w) |= b.getValueMask().getWord(w);
+        if constexpr (EXTENDED) {
+            for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
+                const auto [value, on] =
+                    combined(a.getValue(n), a.isValueOn(n), b.getValue(n), b.isValueOn(n));
+                a.setValueOnly(n, value);
+                a.setActiveState(n, on);
+            }
+        } else {
+            for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+                a.setValueOnly(n, mOp(a.getValue(n), b.getValue(n)));
+            auto& mask = a.getValueMask();
+            for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w)
+                mask.getWord(w) |= b.getValueMask().getWord(w);
+        }
     }
 
     void combineLeafWithTile(const LeafTile& t) const {
-        for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
-            t.leaf->setValueOnly(n, apply(t.leaf->getValue(n), t.tile, t.swapped));
-        if (t.active) {
-            auto& mask = t.leaf->getValueMask();
-            for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w)
-                mask.getWord(w) = ~uint64_t(0);
+        if constexpr (EXTENDED) {
+            for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
+                const auto [value, on] = withTile(t.leaf->getValue(n), t.leaf->isValueOn(n), t.tile,
+                                                  t.active, t.swapped);
+                t.leaf->setValueOnly(n, value);
+                t.leaf->setActiveState(n, on);
+            }
+        } else {
+            for (Index n = 0; n < LeafT::NUM_VALUES; ++n) {
+                const ValueT x = t.leaf->getValue(n);
+                t.leaf->setValueOnly(n, t.swapped ? mOp(t.tile, x) : mOp(x, t.tile));
+            }
+            if (t.active) {
+                auto& mask = t.leaf->getValueMask();
+                for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w)
+                    mask.getWord(w) = ~uint64_t(0);
+            }
         }
     }
 
@@ -662,8 +697,9 @@ private:
                 if (auto* child = node.getChild(n)) {
                     combineBranchWithTile(*child, tile, active, swapped);
                 } else {
-                    node.setTile(n, apply(node.getTileValue(n), tile, swapped),
-                                 node.isTileOn(n) || active);
+                    const auto [value, on] =
+                        withTile(node.getTileValue(n), node.isTileOn(n), tile, active, swapped);
+                    node.setTile(n, value, on);
                 }
             }
         }
@@ -687,8 +723,9 @@ private:
                     a.setChild(n, b.stealChild(n, mB.background(), false));
                     combineBranchWithTile(*childB, tile, active, true);
                 } else {
-                    a.setTile(n, mOp(a.getTileValue(n), b.getTileValue(n)),
-                              a.isTileOn(n) || b.isTileOn(n));
+                    const auto [value, on] = combined(a.getTileValue(n), a.isTileOn(n),
+                                                      b.getTileValue(n), b.isTileOn(n));
+                    a.setTile(n, value, on);
                 }
             }
         }
@@ -718,7 +755,8 @@ private:
                 a.setChild(moved);
                 combineBranchWithTile(*moved, tileA, onA, true);
             } else {
-                a.setTile(key, mOp(tileA, tileB), onA || onB);
+                const auto [value, on] = combined(tileA, onA, tileB, onB);
+                a.setTile(key, value, on);
             }
         }
     }

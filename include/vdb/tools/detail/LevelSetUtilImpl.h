@@ -57,8 +57,8 @@ template <typename TreeT>
 typename TreeT::ValueType deepestValue(const TreeT& tree, bool threaded) {
     using ValueT = typename TreeT::ValueType;
     ValueT deepest = std::numeric_limits<ValueT>::max();
-    visitTiles<ValueFilter::All>(
-        tree.topNode(), [&](const CoordBBox&, const ValueT& v) { deepest = std::min(deepest, v); });
+    tree::visitTiles<ValueFilter::All>(
+        tree.topNode(), [&](const auto& tile) { deepest = std::min(deepest, tile.value); });
     if (deepest > ValueT(0)) {
         const tree::LeafManager<const TreeT> leaves(tree);
         deepest =
@@ -244,9 +244,9 @@ auto sdfInteriorMask(const GridT& grid, typename GridT::ValueType iso) {
         true);
     auto mask = std::make_shared<BoolTreeT>(false);
     linkLeaves(*mask, leaves, true);
-    visitTiles<ValueFilter::All>(grid.tree().topNode(), [&](const CoordBBox& box, const ValueT& v) {
-        if (v < iso)
-            mask->fill(box, true, true);
+    tree::visitTiles<ValueFilter::All>(grid.tree().topNode(), [&](const auto& tile) {
+        if (tile.value < iso)
+            mask->fill(tile.bbox(), true, true);
     });
     return gridLike<BoolGridT>(grid, mask, false);
 }
@@ -408,9 +408,9 @@ auto extractEnclosedRegion(const GridT& grid, typename GridT::ValueType iso,
         true, 16);
     auto mask = std::make_shared<BoolTreeT>(false);
     linkLeaves(*mask, out, true);
-    visitTiles<ValueFilter::All>(in.topNode(), [&](const CoordBBox& box, const ValueT& v) {
-        if (v < iso)
-            mask->fill(box, true, true);
+    tree::visitTiles<ValueFilter::All>(in.topNode(), [&](const auto& tile) {
+        if (tile.value < iso)
+            mask->fill(tile.bbox(), true, true);
     });
     return gridLike<BoolGridT>(grid, mask, false);
 }
@@ -449,7 +449,8 @@ struct ActiveComponents {
             cellList.push_back({leaves.leaf(i).origin(), &leaves.leaf(i), CoordBBox()});
             cells.add(leaves.leaf(i).origin());
         }
-        visitTiles<ValueFilter::On>(tree.topNode(), [&](const CoordBBox& box, const auto&) {
+        tree::visitTiles<ValueFilter::On>(tree.topNode(), [&](const auto& tile) {
+            const CoordBBox box = tile.bbox();
             for (Int32 x = box.min()[0]; x <= box.max()[0]; x += DIM)
                 for (Int32 y = box.min()[1]; y <= box.max()[1]; y += DIM)
                     for (Int32 z = box.min()[2]; z <= box.max()[2]; z += DIM) {

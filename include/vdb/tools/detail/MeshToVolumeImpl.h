@@ -1123,7 +1123,7 @@ void MeshToVolumeBuilder<TreeT>::build(TreeT& tree, const std::vector<Vec3d>& po
     const auto signTiles = [&](auto& node) {
         using NodeT = std::remove_cvref_t<decltype(node)>;
         WindingNumberTree::Local local;
-        tree::forEachTile<tree::TileFilter::Inactive>(node, [&](auto& tile) {
+        tree::forEachTile<ValueFilter::Off>(node, [&](auto& tile) {
             tile.value = tileValue(tile.origin, Int32(NodeT::ChildNodeType::DIM), local);
         });
     };

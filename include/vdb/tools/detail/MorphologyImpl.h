@@ -629,7 +629,7 @@ struct TreeTileOps {
     template <typename NodeT>
     static void collectIn(const NodeT& node, std::vector<TileRef>& tiles) {
         using ChildT = typename NodeT::ChildNodeType;
-        tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto& tile) {
+        tree::forEachTile<ValueFilter::On>(node, [&](const auto& tile) {
             tiles.push_back({tile.origin, Int32(ChildT::DIM), NodeT::LEVEL});
         });
         if constexpr (ChildT::LEVEL > 0)
@@ -647,7 +647,7 @@ struct TreeTileOps {
     static bool hasActiveTilesIn(const NodeT& node) {
         using ChildT = typename NodeT::ChildNodeType;
         bool any = false;
-        tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto&) { any = true; });
+        tree::forEachTile<ValueFilter::On>(node, [&](const auto&) { any = true; });
         if constexpr (ChildT::LEVEL > 0) {
             tree::forEachChild(node,
                                [&](const ChildT& child) { any = any || hasActiveTilesIn(child); });
@@ -669,7 +669,7 @@ struct TreeTileOps {
     template <typename NodeT>
     static void splitActiveTiles(NodeT& node) {
         std::vector<Coord> origins;
-        tree::forEachTile<tree::TileFilter::Active>(
+        tree::forEachTile<ValueFilter::On>(
             node, [&](const auto& tile) { origins.push_back(tile.origin); });
         for (const Coord& origin : origins)
             tree::touchChild(node, origin);
@@ -1103,7 +1103,7 @@ void Morphology<TreeT>::changeTilesIn(NodeT& node, const TileChanges& changes) {
         size_t t;
     };
     std::vector<Change> todo;
-    tree::forEachTile<tree::TileFilter::Active>(node, [&](const auto& tile) {
+    tree::forEachTile<ValueFilter::On>(node, [&](const auto& tile) {
         const size_t t = changes.find(NodeT::LEVEL, tile.origin);
         if (t != TileChanges::NOT_FOUND && changes.changed(t))
             todo.push_back({tile.origin, tile.value, t});

@@ -20,6 +20,7 @@
 #include <vdb/math/Transform.h>
 #include <vdb/math/Vec3.h>
 #include <vdb/tools/detail/NodeLists.h>
+#include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeUtil.h>
 #include <vdb/tree/RootTable.h>
 #include <vdb/tree/ValueAccessor.h>
@@ -189,72 +190,6 @@ private:
 inline const CubeTables& cubeTables() {
     static const CubeTables tables;
     return tables;
-}
-
-// ---- Constant regions ----
-
-/// Calls `op(origin, part)` for every aligned cube of 2^log2 voxels that meets `box`, with
-/// `part` its intersection with the box.
-template <typename OpT>
-void forEachAlignedCube(const CoordBBox& box, Index log2, const OpT& op) {
-    const Int64 step = Int64(1) << log2;
-    const Coord lo = box.min().alignedDown(log2);
-    for (Int64 x = lo[0]; x <= box.max()[0]; x += step) {
-        for (Int64 y = lo[1]; y <= box.max()[1]; y += step) {
-            for (Int64 z = lo[2]; z <= box.max()[2]; z += step) {
-                const Coord origin{Int32(x), Int32(y), Int32(z)};
-                CoordBBox part = CoordBBox::createCube(origin, Int32(step));
-                part.intersect(box);
-                op(origin, part);
-            }
-        }
-    }
-}
-
-/// Calls `op(box, value)` for every tile of `node`'s subtree that meets `box` (clipped to it);
-/// leaves are skipped. `box` must lie within the node.
-template <typename NodeT, typename OpT>
-void forEachTileIn(const NodeT& node, const CoordBBox& box, const OpT& op) {
-    using ChildT = typename NodeT::ChildNodeType;
-    forEachAlignedCube(box, ChildT::TOTAL, [&](const Coord& origin, const CoordBBox& part) {
-        const Index n = NodeT::coordToOffset(origin);
-        if (const ChildT* child = node.getChild(n)) {
-            if constexpr (ChildT::LEVEL > 0)
-                forEachTileIn(*child, part, op);
-        } else {
-            op(part, node.getTileValue(n));
-        }
-    });
-}
-
-/// Calls `op(box, value)` for every tile and background region of `tree` that meets `box`
-/// (clipped to it); leaves are skipped. Outside a bounded tree's domain the whole box counts
-/// as background.
-template <typename TreeT, typename OpT>
-void forEachConstantRegion(const TreeT& tree, const CoordBBox& box, const OpT& op) {
-    using TopT = typename TreeT::TopNodeType;
-    const TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        using ChildT = typename TopT::ChildNodeType;
-        forEachAlignedCube(box, ChildT::TOTAL, [&](const Coord& key, const CoordBBox& part) {
-            const auto* entry = top.findEntry(key);
-            if (!entry) {
-                op(part, tree.background());
-            } else if (entry->child) {
-                if constexpr (ChildT::LEVEL > 0)
-                    forEachTileIn(*entry->child, part, op);
-            } else {
-                op(part, entry->tile);
-            }
-        });
-    } else {
-        CoordBBox inside = box;
-        inside.intersect(TreeT::domain());
-        if (!TreeT::domain().isInside(box))
-            op(box, tree.background());
-        if (!inside.empty())
-            forEachTileIn(top, inside, op);
-    }
 }
 
 // ---- The mesher ----
@@ -887,51 +822,8 @@ void VolumeMesher<TreeT>::addTileBorder(const CoordBBox& tile, int face, const C
     Coord lo = region.min().offsetBy(-1), hi = region.max();
     lo[size_t(axis)] = hi[size_t(axis)] =
         (face & 1) ? tile.max()[size_t(axis)] : tile.min()[size_t(axis)] - 1;
-    forEachAlignedCube(CoordBBox(lo, hi), LOG2,
-                       [&](const Coord& origin, const CoordBBox&) { out.push_back(origin); });
-}
-
-/// The node of level `Level` below `node` whose region holds `ijk`, or null when a tile covers
-/// `ijk` above that level; `value` then holds the tile's value.
-template <Index Level, typename NodeT>
-const tree::NodeAtLevelT<NodeT, Level>* probeNodeBelow(const NodeT& node, const Coord& ijk,
-                                                       typename NodeT::ValueType& value) {
-    if constexpr (NodeT::LEVEL == Level) {
-        return &node;
-    } else {
-        const Index n = NodeT::coordToOffset(ijk);
-        if (const auto* child = node.getChild(n))
-            return probeNodeBelow<Level>(*child, ijk, value);
-        value = node.getTileValue(n);
-        return nullptr;
-    }
-}
-
-/// The node of level `Level` of `tree` whose region holds `ijk`, or null when a tile or the
-/// background covers `ijk` at that level or above; `value` then holds that value.
-template <Index Level, typename TreeT>
-const tree::NodeAtLevelT<typename TreeT::TopNodeType, Level>* probeNodeAtLevel(
-    const TreeT& tree, const Coord& ijk, typename TreeT::ValueType& value) {
-    using TopT = typename TreeT::TopNodeType;
-    const TopT& top = tree.topNode();
-    if constexpr (tree::IS_ROOT_NODE<TopT>) {
-        const auto* entry = top.findEntry(TopT::coordToKey(ijk));
-        if (!entry) {
-            value = tree.background();
-            return nullptr;
-        }
-        if (!entry->child) {
-            value = entry->tile;
-            return nullptr;
-        }
-        return probeNodeBelow<Level>(*entry->child, ijk, value);
-    } else {
-        if (!TreeT::inDomain(ijk)) {
-            value = tree.background();
-            return nullptr;
-        }
-        return probeNodeBelow<Level>(top, ijk, value);
-    }
+    tree::forEachAlignedCube(CoordBBox(lo, hi), LOG2,
+                             [&](const Coord& origin, const CoordBBox&) { out.push_back(origin); });
 }
 
 template <typename TreeT>
@@ -999,11 +891,11 @@ void VolumeMesher<TreeT>::tileBordersOfNode(const NodeT& node, std::vector<Coord
                 const CoordBBox tile = tileBox(m);
                 const bool tileBelow = isBelow(double(node.getTileValue(m)));
                 const int tileFace = face ^ 1;  // from the tile towards the child
-                forEachTileIn(*child, borderLayer(tile, tileFace),
-                              [&](const CoordBBox& part, const ValueT& v) {
-                                  if (isBelow(double(v)) != tileBelow)
-                                      addTileBorder(tile, tileFace, part, out);
-                              });
+                tree::forEachTileIn(*child, borderLayer(tile, tileFace),
+                                    [&](const CoordBBox& part, const ValueT& v) {
+                                        if (isBelow(double(v)) != tileBelow)
+                                            addTileBorder(tile, tileFace, part, out);
+                                    });
             }
         }
     }
@@ -1019,7 +911,7 @@ void VolumeMesher<TreeT>::tileBordersOfNode(const NodeT& node, std::vector<Coord
         if constexpr (NodeT::LEVEL == TopT::LEVEL) {
             beyondValue = mTree.background();  // the domain's faces of a bounded tree
         } else {
-            beyond = probeNodeAtLevel<NodeT::LEVEL>(mTree, layer.min(), beyondValue);
+            beyond = mTree.template get<tree::ops::ProbeNode<NodeT>>(layer.min(), beyondValue);
         }
         const bool beyondBelow = isBelow(double(beyondValue));
         const Index mine = (face & 1) ? DIM - 1 : 0, theirs = DIM - 1 - mine;
@@ -1044,11 +936,11 @@ void VolumeMesher<TreeT>::tileBordersOfNode(const NodeT& node, std::vector<Coord
                 const Index m = (idx[0] << (2 * D)) | (idx[1] << D) | idx[2];
                 if (const ChildT* child = beyond->getChild(m)) {
                     if constexpr (ChildT::LEVEL > 0)
-                        forEachTileIn(*child, borderLayer(tile, face),
-                                      [&](const CoordBBox& part, const ValueT& v) {
-                                          if (isBelow(double(v)) != tileBelow)
-                                              addTileBorder(tile, face, part, out);
-                                      });
+                        tree::forEachTileIn(*child, borderLayer(tile, face),
+                                            [&](const CoordBBox& part, const ValueT& v) {
+                                                if (isBelow(double(v)) != tileBelow)
+                                                    addTileBorder(tile, face, part, out);
+                                            });
                 } else if (isBelow(double(beyond->getTileValue(m))) != tileBelow) {
                     addTileBorder(tile, face, borderLayer(tile, face), out);
                 }
@@ -1063,21 +955,17 @@ std::vector<Coord> VolumeMesher<TreeT>::tileBorderBlocks() const {
     const TopT& top = mTree.topNode();
     if constexpr (tree::IS_ROOT_NODE<TopT>) {
         // The root's tiles, against whatever lies beyond each face.
-        using ChildT = typename TopT::ChildNodeType;
-        for (auto c = top.cbegin(); top.valid(c); top.next(c)) {
-            const auto& entry = top.entry(c);
-            if (entry.child)
-                continue;
-            const CoordBBox tile = CoordBBox::createCube(top.key(c), Int32(ChildT::DIM));
-            const bool below = isBelow(double(entry.tile));
+        tree::forEachTile(top, [&](const auto& rootTile) {
+            const CoordBBox tile = rootTile.bbox();
+            const bool below = isBelow(double(rootTile.value));
             for (int face = 0; face < 6; ++face) {
-                forEachConstantRegion(mTree, borderLayer(tile, face),
-                                      [&](const CoordBBox& part, const ValueT& v) {
-                                          if (isBelow(double(v)) != below)
-                                              addTileBorder(tile, face, part, out);
-                                      });
+                tree::forEachTileIn(top, borderLayer(tile, face),
+                                    [&](const CoordBBox& part, const ValueT& v) {
+                                        if (isBelow(double(v)) != below)
+                                            addTileBorder(tile, face, part, out);
+                                    });
             }
-        }
+        });
     } else {
         tileBordersOfNode(top, out);
     }
