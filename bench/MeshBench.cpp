@@ -31,8 +31,8 @@
 #include <vdb/tools/ParticlesToLevelSet.h>
 #include <vdb/vdb.h>
 
-#include "TestMeshes.h"
 #include "BenchCommon.h"
+#include "TestMeshes.h"
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>

@@ -11,8 +11,8 @@
 #include <vdb/tools/LevelSetSphere.h>
 #include <vdb/tools/VolumeToMesh.h>
 
-#include "MeshMetrics.h"
 #include "GridContents.h"
+#include "MeshMetrics.h"
 #include "ToolRunner.h"
 #include <gtest/gtest.h>
 

@@ -392,7 +392,8 @@ std::vector<Write<ValueT>> pruneWorkload(uint32_t seed, const std::vector<ValueT
 template <typename TreeT, typename OvdbTreeT, typename OpT, typename OvdbOpT>
 void checkPrune(const std::vector<Write<typename TreeT::ValueType>>& writes,
                 const typename TreeT::ValueType& background, const OpT& op, const OvdbOpT& ovdbOp) {
-    // Threaded and serial runs agree bit for bit (tests/tools/levelset); each library runs threaded.
+    // Threaded and serial runs agree bit for bit (tests/tools/levelset); each library runs
+    // threaded.
     {
         const bool threaded = true;
         TreeT ours(background);

@@ -32,8 +32,8 @@
 #include <vdb/meshio/MeshReader.h>
 #endif
 
-#include "TestMeshes.h"
 #include "OpenVdbConvert.h"
+#include "TestMeshes.h"
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>

@@ -11,8 +11,8 @@
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/vdb.h>
 
-#include "TestMeshes.h"
 #include "GridContents.h"
+#include "TestMeshes.h"
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 

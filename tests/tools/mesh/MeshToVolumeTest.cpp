@@ -8,9 +8,9 @@
 #include <vdb/tools/MeshToVolume.h>
 #include <vdb/vdb.h>
 
-#include "TestMeshes.h"
 #include "GridContents.h"
 #include "Oracles.h"
+#include "TestMeshes.h"
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
