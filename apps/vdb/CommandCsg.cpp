@@ -13,9 +13,8 @@ namespace {
 GridBase::Ptr pickLevelSet(const GridPtrVec& grids, const std::string& name,
                            const std::string& path) {
     for (const auto& grid : selectGrids(grids, name, path)) {
-        const bool floating =
-            gridPtrCast<FloatGrid>(grid) != nullptr || gridPtrCast<DoubleGrid>(grid) != nullptr;
-        if (floating && (!name.empty() || grid->getGridClass() == GRID_LEVEL_SET))
+        if (gridIsOneOf<RealGridTypes>(*grid) &&
+            (!name.empty() || grid->getGridClass() == GRID_LEVEL_SET))
             return grid;
         if (!name.empty())
             withLevelSetGrid(grid, [](auto&) {});  // throws the type error

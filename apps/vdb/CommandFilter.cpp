@@ -131,9 +131,7 @@ void addFilterCommand(CLI::App& app, Context& ctx) {
                         return false;
                     }
                     // Without --grid, only the grids the value filters take.
-                    if (a.edit.grid.empty() && !gridPtrCast<FloatGrid>(grid) &&
-                        !gridPtrCast<DoubleGrid>(grid) && !gridPtrCast<Vec3SGrid>(grid) &&
-                        !gridPtrCast<Vec3DGrid>(grid))
+                    if (a.edit.grid.empty() && !gridIsOneOf<FloatingPointGridTypes>(*grid))
                         return false;
                     if (a.op == "median" && a.edit.grid.empty() &&
                         (gridPtrCast<Vec3SGrid>(grid) || gridPtrCast<Vec3DGrid>(grid)))

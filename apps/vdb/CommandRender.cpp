@@ -218,7 +218,7 @@ std::vector<GridInfo> describeGrids(const GridPtrVec& grids, bool fogMode, bool 
         info.gridClass = g->getGridClass();
         info.levelSet = info.gridClass == GRID_LEVEL_SET;
         info.type = g->type();
-        info.floating = gridPtrCast<FloatGrid>(g) || gridPtrCast<DoubleGrid>(g);
+        info.floating = gridIsOneOf<RealGridTypes>(*g);
         if (info.floating) {
             if (info.levelSet && !fogMode) {
                 const CoordBBox box = g->evalActiveVoxelBoundingBox();

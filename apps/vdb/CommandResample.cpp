@@ -83,18 +83,17 @@ void addResampleCommand(CLI::App& app, Context& ctx) {
             }
             runEdit(ctx, a.edit, [&](Report& report, const GridBase::Ptr& grid) {
                 const auto target = targetTransform(a, *grid, reference.get());
-                const bool supported = gridPtrCast<FloatGrid>(grid) ||
-                                       gridPtrCast<DoubleGrid>(grid) ||
-                                       gridPtrCast<Vec3SGrid>(grid) || gridPtrCast<Vec3DGrid>(grid);
-                if (!supported) {
+                if (!gridIsOneOf<FloatingPointGridTypes>(*grid)) {
                     throw UsageError("grid \"" + grid->getName() + "\" has type " + grid->type() +
                                      "; resample handles float, double, vec3s and vec3d grids "
                                      "(choose grids with --grid)");
                 }
-                // Level sets are rebuilt through a mesh of float points in world space.
-                if (grid->getGridClass() == GRID_LEVEL_SET && target->hasUniformScale() &&
-                    (gridPtrCast<FloatGrid>(grid) || gridPtrCast<DoubleGrid>(grid)))
-                    checkSurfacePrecision(*grid, target->voxelSize()[0]);
+                // Level sets are rebuilt through a mesh of float points in world space, for any
+                // linear target: the finest of its voxel sizes sets the precision needed.
+                if (grid->getGridClass() == GRID_LEVEL_SET && gridIsOneOf<RealGridTypes>(*grid)) {
+                    const Vec3d size = target->voxelSize();
+                    checkSurfacePrecision(*grid, std::min({size[0], size[1], size[2]}));
+                }
                 // The voxels the output may hold, at about the bytes of one value each.
                 const double bytesPerVoxel = gridPtrCast<FloatGrid>(grid)    ? 4.0
                                              : gridPtrCast<Vec3SGrid>(grid)  ? 12.0

@@ -19,7 +19,7 @@ namespace vdb::app {
 GridBase::Ptr pickSurfaceGrid(const GridPtrVec& grids, const std::string& name,
                               const std::string& path) {
     const auto isFloating = [](const GridBase::Ptr& grid) {
-        return gridPtrCast<FloatGrid>(grid) != nullptr || gridPtrCast<DoubleGrid>(grid) != nullptr;
+        return gridIsOneOf<RealGridTypes>(*grid);
     };
     const GridPtrVec candidates = selectGrids(grids, name, path);
     if (!name.empty()) {
