@@ -1043,11 +1043,19 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             .def(
                 "getValueDepth",
                 [](const A& a, const Coord& ijk) {
+                    // The background outside the root's entries is stored by no node: -1.
+                    using TopT = typename std::decay_t<decltype(a.grid->tree())>::TopNodeType;
+                    const TopT& top = a.grid->tree().topNode();
+                    if constexpr (tree::IS_ROOT_NODE<TopT>) {
+                        if (!top.findEntry(TopT::coordToKey(ijk)))
+                            return -1;
+                    }
                     return int(DEPTH) - 1 - int(valueLevel(a.grid->tree(), ijk));
                 },
                 py::arg("ijk"),
                 "getValueDepth(ijk) -> int: the depth of the node that stores the value "
-                "(0: root, treeDepth - 1: leaf voxel)")
+                "(0: root, treeDepth - 1: leaf voxel, -1: the background outside every root "
+                "entry)")
             .def(
                 "isVoxel",
                 [](const A& a, const Coord& ijk) { return valueLevel(a.grid->tree(), ijk) == 0; },

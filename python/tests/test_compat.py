@@ -227,3 +227,21 @@ def test_signed_flood_fill_prune_background_combine(oracle, rng):
     a.copyToArray(dense[0])
     oa.copyToArray(dense[1])
     np.testing.assert_array_equal(dense[0], dense[1])
+
+
+def test_value_depth_and_is_voxel(oracle):
+    # A leaf voxel, tiles filled at the lower internal, upper internal and root levels, and
+    # coordinates with no root entry (the background), as pyopenvdb reports them.
+    probes = [(1, 2, 3), (200, 0, 0), (130, 0, 0), (9000, 0, 0), (5000, 5000, 5000),
+              (-70000, 12, 3), (4095, 4095, 4095)]
+    results = []
+    for module in (vdb, oracle):
+        grid = module.FloatGrid()
+        acc = grid.getAccessor()
+        acc.setValueOn((1, 2, 3), 1.0)
+        grid.fill((128, 0, 0), (255, 127, 127), 2.0)  # a lower internal node's tile
+        grid.fill((8192, 0, 0), (12287, 4095, 4095), 3.0)  # a root tile
+        grid.fill((4096, 4096, 4096), (8191, 8191, 8191), 4.0, active=False)
+        acc = grid.getAccessor()
+        results.append([(acc.getValueDepth(p), acc.isVoxel(p)) for p in probes])
+    assert results[0] == results[1]
