@@ -8,6 +8,7 @@
 #include "Commands.h"
 #include "SurfaceGrid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -37,16 +38,18 @@ void addRebuildCommand(CLI::App& app, Context& ctx) {
                     const GridPtrVec grids =
                         report.step("read " + a.input, [&] { return readGrids(a.input, ctx); });
                     const GridBase::Ptr grid = pickSurfaceGrid(grids, a.grid, a.input);
-                    if (!grid->transform().isLinear() || !grid->transform().hasUniformScale())
+                    // A non-uniform linear transform is rebuilt in its index space, as
+                    // tools::levelSetRebuild documents; a frustum needs a new voxel size.
+                    if (!grid->transform().isLinear() && a.voxelSize <= 0)
                         throw UsageError("grid \"" + grid->getName() +
-                                         "\" has a transform that is not linear with a uniform "
-                                         "scale; a level set needs cubic voxels (give "
-                                         "--voxel-size)");
+                                         "\" has a frustum transform; a level set needs a "
+                                         "linear one (give --voxel-size)");
                     const double iso = isovalueFor(*grid, a.isovalue);
                     math::Transform::Ptr xform = grid->transform().copy();
                     if (a.voxelSize > 0)
                         xform = math::Transform::createLinearTransform(a.voxelSize);
-                    checkSurfacePrecision(*grid, xform->voxelSize()[0]);
+                    const Vec3d size = xform->voxelSize();
+                    checkSurfacePrecision(*grid, std::min({size[0], size[1], size[2]}));
                     std::ostringstream label;
                     label << "rebuild grid \"" << grid->getName() << "\" at isovalue " << iso;
                     GridBase::Ptr result;

@@ -6,6 +6,7 @@
 
 #include <vdb/io/File.h>
 #include <vdb/tools/GridTransformer.h>
+#include <vdb/tools/LevelSetRebuild.h>
 #include <vdb/tools/LevelSetSphere.h>
 
 #include "CliFixture.h"
@@ -154,6 +155,45 @@ TEST_F(ResampleCli, BadRequestsFailWithOneLineAndLoseNothing) {
     io::File(path("ints.vdb")).write({ints});
     fails({"resample", path("ints.vdb"), "-o", path("out.vdb"), "--scale", "2"}, 2, "int32");
     EXPECT_EQ(test::fileBytes(path("out.vdb")), before);
+}
+
+}  // namespace
+}  // namespace vdb
+
+namespace vdb {
+namespace {
+
+// `vdb rebuild` of a level set whose transform is linear with a non-uniform scale rebuilds it in
+// that transform's index space, exactly as tools::levelSetRebuild does; --voxel-size moves it
+// to cubic voxels instead (main refused both).
+TEST_F(ResampleCli, RebuildTakesANonUniformTransformLikeTheLibrary) {
+    auto sphere = tools::createLevelSetSphere<FloatGrid>(1.0f, Vec3f(0.05f), 0.1f);
+    auto target = FloatGrid::create(0.3f);
+    target->setGridClass(GRID_LEVEL_SET);
+    auto xform = math::Transform::createLinearTransform(0.1);
+    xform->preScale(Vec3d(1.0, 1.4, 1.2));
+    target->setTransform(xform);
+    tools::resampleToMatch(*sphere, *target);
+    target->setName("ls");
+    io::File(path("in.vdb")).write({target});
+
+    ok({"rebuild", path("in.vdb"), "-o", path("out.vdb"), "-q"});
+    const FloatGrid::Ptr ours = grid("out.vdb", "ls");
+    const auto expected = tools::levelSetRebuild(*target, 0.0f, 3.0f, &target->transform());
+    EXPECT_TRUE(ours->transform() == target->transform());
+    EXPECT_EQ(ours->activeVoxelCount(), expected->activeVoxelCount());
+    EXPECT_GT(ours->activeVoxelCount(), 0u);
+    auto acc = expected->getConstAccessor();
+    size_t differ = 0;
+    for (auto it = ours->tree().cbeginValueOn(); it; ++it)
+        differ += !acc.isValueOn(it.getCoord()) || acc.getValue(it.getCoord()) != *it;
+    EXPECT_EQ(differ, 0u);
+
+    ok({"rebuild", path("in.vdb"), "-o", path("cubic.vdb"), "--voxel-size", "0.1", "-q"});
+    const Vec3d size = grid("cubic.vdb", "ls")->voxelSize();
+    EXPECT_DOUBLE_EQ(size[0], 0.1);
+    EXPECT_DOUBLE_EQ(size[1], 0.1);
+    EXPECT_DOUBLE_EQ(size[2], 0.1);
 }
 
 }  // namespace
