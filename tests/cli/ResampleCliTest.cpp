@@ -173,7 +173,7 @@ TEST_F(ResampleCli, RebuildTakesANonUniformTransformLikeTheLibrary) {
     auto xform = math::Transform::createLinearTransform(0.1);
     xform->preScale(Vec3d(1.0, 1.4, 1.2));
     target->setTransform(xform);
-    tools::resampleToMatch(*sphere, *target);
+    tools::resampleToMatch<tools::BoxSampler>(*sphere, *target);
     target->setName("ls");
     io::File(path("in.vdb")).write({target});
 
