@@ -158,6 +158,9 @@ public:
     virtual Ptr deepCopyGrid() const = 0;
     /// A new grid of the same type and background, sharing the transform, with no values.
     virtual Ptr copyGridWithNewTree() const = 0;
+    /// A new grid of the same type that shares this grid's tree (an instance), with copies of
+    /// the transform and the metadata (OpenVDB's GridBase::copyGrid).
+    virtual Ptr copyGrid() const = 0;
 
 protected:
     GridBase() : mTransform(math::Transform::createLinearTransform(1.0)) {}
@@ -284,6 +287,7 @@ public:
     GridBase::Ptr deepCopyGrid() const override { return deepCopy(); }
     /// A new grid sharing this grid's tree (an instance), with copies of transform and metadata.
     Ptr copy() const { return Ptr(new Grid(*this, mTree)); }
+    GridBase::Ptr copyGrid() const override { return copy(); }
     GridBase::Ptr copyGridWithNewTree() const override {
         return Ptr(new Grid(*this, std::make_shared<TreeT>(background())));
     }

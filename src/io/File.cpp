@@ -17,7 +17,10 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <functional>
+#include <istream>
 #include <map>
+#include <ostream>
 #include <random>
 #include <set>
 #include <system_error>
@@ -374,8 +377,9 @@ struct File::Impl {
     };
 
     std::string path;
-    std::shared_ptr<const FileSource> source;  // shared with out-of-core leaves
-    std::unique_ptr<MappedFile> file;
+    std::shared_ptr<const FileSource> source;  // shared with out-of-core leaves; null for a Stream
+    std::unique_ptr<MappedFile> file;          // the bytes of a File
+    std::vector<uint8_t> owned;                // the bytes of a Stream
     bool delayedLoad = true;
     uint32_t version = 0;
     uint32_t libMajor = 0, libMinor = 0;
@@ -385,6 +389,11 @@ struct File::Impl {
     std::vector<Descriptor> grids;  // readable and unsupported, in file order
     std::vector<UnsupportedGrid> unsupported;
 
+    std::span<const uint8_t> bytes() const {
+        return file ? file->bytes() : std::span<const uint8_t>(owned);
+    }
+    /// Reads the header, the file metadata and the grid descriptors from bytes().
+    void parse();
     const Descriptor* find(std::string_view name) const;
     GridBase::Ptr readGridAt(ByteReader& r, const Descriptor& d, bool withTree,
                              std::map<std::string, GridBase::Ptr>* loaded) const;
@@ -443,7 +452,7 @@ GridBase::Ptr File::Impl::readGridAt(ByteReader& r, const Descriptor& d, bool wi
         options.flags = flags;
         options.half = half;
         options.fileVersion = version;
-        if (delayedLoad && hasOffsets)
+        if (delayedLoad && hasOffsets && source)
             options.delayed = source;
         d.io->read(r, *grid, options);
     }
@@ -462,10 +471,10 @@ GridBase::Ptr File::Impl::load(const Descriptor& d, bool withTree,
         return g;
     }
     // A file truncated in place since open() would fault in the mapping: refuse it instead.
-    if (currentSize(source->fd(), path) < file->bytes().size())
+    if (file && currentSize(source->fd(), path) < file->bytes().size())
         throw IoError(path + ": the file has shrunk since it was opened");
     // The grid's bytes end at endPos: nothing it reads can reach into the next grid.
-    ByteReader r(file->bytes().first(size_t(d.endPos)), path);
+    ByteReader r(bytes().first(size_t(d.endPos)), path);
     r.seek(d.gridPos);
     return readGridAt(r, d, withTree, loaded);
 }
@@ -483,22 +492,27 @@ void File::open(bool delayedLoad) {
     impl->delayedLoad = delayedLoad;
     impl->source = std::make_shared<const FileSource>(mPath);
     impl->file = std::make_unique<MappedFile>(*impl->source);
-    ByteReader r(impl->file->bytes(), mPath);
+    impl->parse();
+    mImpl = std::move(impl);
+}
+
+void File::Impl::parse() {
+    ByteReader r(bytes(), path);
     if (r.size() < 8 || r.read<uint64_t>("magic") != FILE_MAGIC)
-        throw IoError(mPath + ": not a .vdb file (bad magic number)");
-    impl->version = r.read<uint32_t>("file version");
-    if (impl->version < OLDEST_FILE_VERSION)
-        r.fail("file version " + std::to_string(impl->version) + " is older than " +
+        throw IoError(path + ": not a .vdb file (bad magic number)");
+    version = r.read<uint32_t>("file version");
+    if (version < OLDEST_FILE_VERSION)
+        r.fail("file version " + std::to_string(version) + " is older than " +
                std::to_string(OLDEST_FILE_VERSION) + " and not supported");
-    if (impl->version > 10000)
-        r.fail("implausible file version " + std::to_string(impl->version));
-    impl->libMajor = r.read<uint32_t>("library major version");
-    impl->libMinor = r.read<uint32_t>("library minor version");
-    impl->hasOffsets = r.readBool("grid offsets flag");
-    if (impl->version < FILE_VERSION_NODE_MASK_COMPRESSION)
-        impl->headerCompression = r.readBool("compression flag") ? COMPRESS_ZIP : COMPRESS_NONE;
+    if (version > 10000)
+        r.fail("implausible file version " + std::to_string(version));
+    libMajor = r.read<uint32_t>("library major version");
+    libMinor = r.read<uint32_t>("library minor version");
+    hasOffsets = r.readBool("grid offsets flag");
+    if (version < FILE_VERSION_NODE_MASK_COMPRESSION)
+        headerCompression = r.readBool("compression flag") ? COMPRESS_ZIP : COMPRESS_NONE;
     r.skip(36, "file UUID");
-    readMetaMap(r, impl->metadata);
+    readMetaMap(r, metadata);
     const Int32 count = r.read<Int32>("grid count");
     if (count < 0)
         r.fail("negative grid count " + std::to_string(count));
@@ -518,13 +532,13 @@ void File::open(bool delayedLoad) {
         d.blockPos = uint64_t(r.read<int64_t>("block position"));
         d.endPos = uint64_t(r.read<int64_t>("end position"));
         d.io = findGridType(d.type);
-        if (impl->hasOffsets) {
+        if (hasOffsets) {
             if (d.gridPos < r.pos() || d.endPos < d.gridPos || d.endPos > r.size() ||
                 (d.blockPos != 0 && (d.blockPos < d.gridPos || d.blockPos > d.endPos))) {
                 r.fail("grid \"" + printedName(d.uniqueName) + "\" has invalid offsets");
             }
             if (!d.io)
-                impl->unsupported.push_back({displayName(d.uniqueName), d.storedType});
+                unsupported.push_back({displayName(d.uniqueName), d.storedType});
             r.seek(d.endPos);
         } else {
             // A stream file: grids follow their descriptors and can only be read in order.
@@ -533,15 +547,14 @@ void File::open(bool delayedLoad) {
                        d.storedType + " cannot be skipped in a file without offsets");
             d.gridPos = r.pos();
             std::map<std::string, GridBase::Ptr> loaded;
-            for (const auto& p : impl->grids)
+            for (const auto& p : grids)
                 if (p.preloaded)
                     loaded[p.uniqueName] = p.preloaded;
-            d.preloaded = impl->readGridAt(r, d, true, &loaded);
+            d.preloaded = readGridAt(r, d, true, &loaded);
             d.endPos = r.pos();
         }
-        impl->grids.push_back(std::move(d));
+        grids.push_back(std::move(d));
     }
-    mImpl = std::move(impl);
 }
 
 namespace {
@@ -690,9 +703,11 @@ TreeWriteInfo writeGrid(std::vector<uint8_t>& out, std::vector<uint8_t>& tree, u
     return info;
 }
 
-}  // namespace
-
-void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
+/// Writes the archive of `input` and `metadata` through `sink` (a File's output file or a
+/// Stream's std::ostream); `what` names the destination in errors.
+void writeArchive(const std::function<void(const uint8_t*, size_t)>& sink, const GridCPtrVec& input,
+                  const MetaMap& metadata, uint32_t compression, bool stats,
+                  const std::string& what) {
     std::vector<const GridBase*> grids;
     std::vector<const GridTypeIo*> types;
     for (const auto& g : input) {
@@ -700,7 +715,7 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
             continue;
         const GridTypeIo* io = findGridTypeOf(*g);
         if (!io)
-            throw TypeError(mPath + ": grids of type " + g->type() +
+            throw TypeError(what + ": grids of type " + g->type() +
                             " on this tree configuration are not registered for files "
                             "(see io::registerGridType)");
         grids.push_back(g.get());
@@ -727,7 +742,6 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         unique.push_back(u);
     }
 
-    util::OutputFile out(mPath);
     std::vector<uint8_t> bytes;
     {
         ByteWriter w(bytes);
@@ -742,7 +756,7 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
         w.put(Int32(grids.size()));
     }
     uint64_t offset = bytes.size();
-    out.write(bytes);
+    sink(bytes.data(), bytes.size());
 
     // Grids that share a tree (and the half setting) become instances of the first.
     std::vector<std::pair<const void*, size_t>> written;
@@ -761,16 +775,79 @@ void File::write(const GridCPtrVec& input, const MetaMap& metadata) const {
             written.emplace_back(identity, i);
         bytes.clear();
         const TreeWriteInfo info = writeGrid(bytes, tree, offset, *grids[i], *types[i], unique[i],
-                                             parent, mCompression, mStats);
-        out.write(bytes);
-        out.write(tree);
+                                             parent, compression, stats);
+        sink(bytes.data(), bytes.size());
+        sink(tree.data(), tree.size());
         offset += bytes.size() + tree.size();
         if (info.emitBuffers) {
-            info.emitBuffers([&](const uint8_t* data, size_t size) { out.write(data, size); });
+            info.emitBuffers(sink);
             offset += info.bufferBytes;
         }
     }
+}
+
+}  // namespace
+
+void File::write(const GridCPtrVec& grids, const MetaMap& metadata) const {
+    util::OutputFile out(mPath);
+    writeArchive([&](const uint8_t* data, size_t size) { out.write(data, size); }, grids, metadata,
+                 mCompression, mStats, mPath);
     out.commit();
+}
+
+// ---- Streams
+
+namespace {
+constexpr const char* STREAM_NAME = "<stream>";
+}
+
+Stream::Stream(std::istream& is) {
+    auto impl = std::make_unique<File::Impl>();
+    impl->path = STREAM_NAME;
+    impl->delayedLoad = false;
+    // Read in chunks: a stream does not say its size, and a failing one stops the loop.
+    std::vector<uint8_t>& bytes = impl->owned;
+    constexpr size_t CHUNK = size_t(1) << 20;
+    while (is) {
+        const size_t old = bytes.size();
+        bytes.resize(old + CHUNK);
+        is.read(reinterpret_cast<char*>(bytes.data() + old), std::streamsize(CHUNK));
+        bytes.resize(old + size_t(is.gcount()));
+    }
+    if (is.bad())
+        throw IoError(std::string(STREAM_NAME) + ": the input stream failed");
+    impl->parse();
+    mImpl = std::move(impl);
+}
+
+Stream::Stream(std::ostream& os) : mOut(&os) {}
+Stream::~Stream() = default;
+
+MetaMap Stream::getMetadata() const {
+    return opened(mImpl, STREAM_NAME).metadata;
+}
+
+GridPtrVecPtr Stream::getGrids() const {
+    return readAll(opened(mImpl, STREAM_NAME), true);
+}
+
+std::vector<UnsupportedGrid> Stream::unsupportedGrids() const {
+    return opened(mImpl, STREAM_NAME).unsupported;
+}
+
+void Stream::write(const GridCPtrVec& grids, const MetaMap& metadata) const {
+    if (!mOut)
+        throw IoError(std::string(STREAM_NAME) +
+                      ": this Stream reads; construct one with an "
+                      "std::ostream to write");
+    writeArchive(
+        [&](const uint8_t* data, size_t size) {
+            mOut->write(reinterpret_cast<const char*>(data), std::streamsize(size));
+        },
+        grids, metadata, mCompression, mStats, STREAM_NAME);
+    mOut->flush();
+    if (!*mOut)
+        throw IoError(std::string(STREAM_NAME) + ": the output stream failed");
 }
 
 }  // namespace vdb::io

@@ -46,6 +46,7 @@
 #include <vdb/io/Compression.h>
 
 #include <cstdint>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -70,19 +71,10 @@ constexpr uint32_t gridCompression(GridClass gridClass, uint32_t requested) {
                : requested;
 }
 
-/// A `.vdb` file on disk.
-/// Threads: a File is not shared between threads while it is opened, closed or written; the
-/// const reading calls (getGrids, readGrid, ...) may run concurrently.
-class File {
+/// The writing side that File and Stream share: the settings grids are written with, and
+/// write() for any container of grid pointers.
+class ArchiveWriter {
 public:
-    explicit File(std::string path);
-    ~File();
-    File(const File&) = delete;
-    File& operator=(const File&) = delete;
-
-    const std::string& filename() const { return mPath; }
-
-    // ---- Writing
     /// The COMPRESS_* flags grids are written with (default BLOSC | ACTIVE_MASK, as OpenVDB).
     /// ZIP is dropped for level sets and fog volumes, as OpenVDB does (gridCompression()).
     void setCompression(uint32_t flags) { mCompression = flags; }
@@ -91,17 +83,45 @@ public:
     /// `file_mem_bytes` and `file_compression` metadata (default on).
     void setGridStatsMetadataEnabled(bool on) { mStats = on; }
     bool isGridStatsMetadataEnabled() const { return mStats; }
-    /// Writes `grids` (null entries are skipped) with the file-level `metadata`, replacing
-    /// the file atomically. Grids that share a tree are written once and stored as instances.
-    /// @throw IoError when the file cannot be written, TypeError for a grid type that files
-    /// cannot hold.
-    void write(const GridCPtrVec& grids, const MetaMap& metadata = MetaMap()) const;
+
+    /// Writes `grids` (null entries are skipped) with the archive-level `metadata`.
+    virtual void write(const GridCPtrVec& grids, const MetaMap& metadata = MetaMap()) const = 0;
     /// As above, for any container of grid pointers (GridPtrVec, vector<FloatGrid::Ptr>, ...).
     template <typename ContainerT>
     requires(!std::is_same_v<ContainerT, GridCPtrVec>) void write(
         const ContainerT& grids, const MetaMap& metadata = MetaMap()) const {
         write(GridCPtrVec(grids.begin(), grids.end()), metadata);
     }
+
+protected:
+    ArchiveWriter() = default;
+    ArchiveWriter(const ArchiveWriter&) = default;
+    ArchiveWriter& operator=(const ArchiveWriter&) = default;
+    ~ArchiveWriter() = default;
+
+    uint32_t mCompression = COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK;
+    bool mStats = true;
+};
+
+/// A `.vdb` file on disk.
+/// Threads: a File is not shared between threads while it is opened, closed or written; the
+/// const reading calls (getGrids, readGrid, ...) may run concurrently.
+class File : public ArchiveWriter {
+public:
+    explicit File(std::string path);
+    ~File();
+    File(const File&) = delete;
+    File& operator=(const File&) = delete;
+
+    const std::string& filename() const { return mPath; }
+
+    // ---- Writing (see ArchiveWriter for the settings)
+    /// Writes `grids` (null entries are skipped) with the file-level `metadata`, replacing
+    /// the file atomically. Grids that share a tree are written once and stored as instances.
+    /// @throw IoError when the file cannot be written, TypeError for a grid type that files
+    /// cannot hold.
+    void write(const GridCPtrVec& grids, const MetaMap& metadata = MetaMap()) const override;
+    using ArchiveWriter::write;
 
     // ---- Reading
     /// Opens the file and reads its header, file metadata and grid descriptors (grid data is
@@ -140,9 +160,51 @@ public:
 
 private:
     std::string mPath;
-    uint32_t mCompression = COMPRESS_BLOSC | COMPRESS_ACTIVE_MASK;
-    bool mStats = true;
     std::unique_ptr<Impl> mImpl;
+};
+
+/// A `.vdb` archive in a C++ stream, as OpenVDB's io::Stream: the bytes File writes, for a
+/// pipe, a socket, a database record or Python's pickle. What one Stream writes another reads,
+/// and so does File once the bytes are saved; every grid is read at once (no delayed load).
+/// Reading accepts what File::open accepts, with the same checks.
+///
+/// @code
+/// std::ostringstream os;
+/// vdb::io::Stream(os).write({grid});
+/// std::istringstream is(os.str());
+/// vdb::GridPtrVecPtr grids = vdb::io::Stream(is).getGrids();
+/// @endcode
+///
+/// Threads: as File.
+class Stream : public ArchiveWriter {
+public:
+    /// Reads the whole archive from `is` (to its end).
+    /// @throw IoError when the stream fails or its bytes are not a `.vdb` archive or corrupt.
+    explicit Stream(std::istream& is);
+    /// A Stream that writes to `os`.
+    explicit Stream(std::ostream& os);
+    ~Stream();
+    Stream(const Stream&) = delete;
+    Stream& operator=(const Stream&) = delete;
+
+    // ---- Writing (a Stream made from an std::ostream; see ArchiveWriter for the settings)
+    /// Writes `grids` (null entries are skipped) with the archive-level `metadata` to the
+    /// stream, as File::write writes a file.
+    /// @throw IoError when this Stream reads or the stream fails, TypeError as File::write.
+    void write(const GridCPtrVec& grids, const MetaMap& metadata = MetaMap()) const override;
+    using ArchiveWriter::write;
+
+    // ---- Reading (a Stream made from an std::istream)
+    /// The archive-level metadata. @throw IoError when this Stream writes.
+    MetaMap getMetadata() const;
+    /// Every readable grid, in the order File::getGrids gives. @throw IoError as getMetadata.
+    GridPtrVecPtr getGrids() const;
+    /// Grids the archive holds that this library cannot read. @throw IoError as getMetadata.
+    std::vector<UnsupportedGrid> unsupportedGrids() const;
+
+private:
+    std::ostream* mOut = nullptr;
+    std::unique_ptr<File::Impl> mImpl;
 };
 
 }  // namespace vdb::io
