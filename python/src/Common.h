@@ -32,7 +32,8 @@ namespace vdb::python {
 bool sequence3(py::handle obj, py::object (&items)[3]);
 
 /// The Python integer `obj` (or an object with __index__) as an Int32.
-/// @throw IndexError when it lies outside [-2^31, 2^31 - 1], TypeError when not an integer.
+/// @throw OverflowError when it lies outside [-2^31, 2^31 - 1] (as pyopenvdb), TypeError when
+/// not an integer.
 Int32 toInt32(py::handle obj);
 
 }  // namespace vdb::python
@@ -63,7 +64,7 @@ struct type_caster<vdb::math::Vec3<T>> {
     }
 };
 
-/// Coord from any sequence of three integers (IndexError beyond 32 bits), to a tuple.
+/// Coord from any sequence of three integers (OverflowError beyond 32 bits), to a tuple.
 template <>
 struct type_caster<vdb::Coord> {
     PYBIND11_TYPE_CASTER(vdb::Coord, const_name("tuple[int, int, int]"));
@@ -122,6 +123,17 @@ std::string typeNameOf(py::handle obj);
 /// sequence of three numbers to a vector). @throw TypeError naming `what` and the object.
 template <typename ValueT>
 ValueT toValue(py::handle obj, const char* what) {
+    if constexpr (std::is_same_v<ValueT, bool>) {
+        // As pyopenvdb: bools, NumPy bools and integers (nonzero is true), not floats or
+        // strings, which pybind11's caster would take by their truth value.
+        const bool integral =
+            PyIndex_Check(obj.ptr()) && !PyFloat_Check(obj.ptr()) && !PySequence_Check(obj.ptr());
+        if (!PyBool_Check(obj.ptr()) && !integral &&
+            !py::isinstance(obj, py::module_::import("numpy").attr("bool_")))
+            throw py::type_error(std::string(what) + ": expected a value of type bool, got " +
+                                 typeNameOf(obj));
+        return PyObject_IsTrue(obj.ptr()) == 1;
+    }
     py::detail::make_caster<ValueT> caster;
     if (!caster.load(obj, true))
         throw py::type_error(std::string(what) + ": expected a value of type " +
@@ -132,10 +144,13 @@ ValueT toValue(py::handle obj, const char* what) {
 // ---- Metadata
 
 py::object metaToPython(const MetaValue& value);
-/// Python bool -> bool, int -> int32 or int64 by range, float -> double, str -> string,
-/// three ints -> vec3i, three numbers -> vec3d, vdb.Metadata -> its opaque value.
-/// @throw TypeError for other objects, ValueError for an int beyond 64 bits.
-MetaValue metaFromPython(py::handle obj);
+/// As pyopenvdb: bool -> bool, int -> int32 or int64 by range, float -> double, str and
+/// bytes -> string, 2-, 3- or 4-sequences of ints (bools count as ints) -> vec2i, vec3i,
+/// vec4i, of other numbers -> vec2d, vec3d, vec4d, four rows of four numbers -> mat4d,
+/// vdb.Metadata -> its opaque value, None -> nothing (nothing is stored).
+/// @throw TypeError for other objects, OverflowError for an int beyond 64 bits or a vector
+/// component beyond 32 bits.
+std::optional<MetaValue> metaFromPython(py::handle obj);
 py::dict metaMapToDict(const MetaMap& map);
 /// Replaces the entries of `map` named by the keys of `dict`.
 void updateMetaMap(MetaMap& map, py::handle dict);
@@ -158,6 +173,17 @@ const PtrT& requireGrid(const PtrT& grid, const char* op) {
         throw py::type_error(std::string(op) + ": expected a grid, got None");
     return grid;
 }
+
+// ---- Pickling
+
+/// The bytes of a one-grid `.vdb` archive (io::Stream) of `grid`, with statistics metadata left
+/// out and `half` (the half flag to restore) as archive metadata.
+py::bytes archiveBytes(const GridBase::Ptr& grid, bool half);
+/// The grid of bytes that archiveBytes made, its half flag restored.
+/// @throw ValueError for other objects, OSError (IoError) for damaged bytes.
+GridBase::Ptr gridFromArchive(py::handle state);
+/// A grid's __reduce__: (vdb._restore_grid, (bytes,)), values at full precision.
+py::tuple reduceGrid(const GridBase::Ptr& grid);
 
 // ---- Binding functions, one per source file
 

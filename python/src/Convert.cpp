@@ -2,13 +2,17 @@
 // Conversions between Python objects and the library's values and metadata; the Transform,
 // GridClass and Metadata classes of the module.
 
+#include <vdb/io/File.h>
 #include <vdb/math/Mat4.h>
 #include <vdb/math/Math.h>
 
 #include "Common.h"
 
 #include <cctype>
+#include <cstring>
+#include <optional>
 #include <sstream>
+#include <string>
 #include <variant>
 
 namespace vdb::python {
@@ -42,9 +46,13 @@ Int32 toInt32(py::handle obj) {
     int overflow = 0;
     const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
     if (overflow != 0 || v < std::numeric_limits<Int32>::min() ||
-        v > std::numeric_limits<Int32>::max())
-        throw py::index_error("coordinate " + std::string(py::str(value)) +
-                              " is outside the 32-bit index space");
+        v > std::numeric_limits<Int32>::max()) {
+        // OverflowError, as pyopenvdb raises for a coordinate beyond 32 bits.
+        PyErr_SetString(PyExc_OverflowError, ("coordinate " + std::string(py::str(value)) +
+                                              " is outside the 32-bit index space")
+                                                 .c_str());
+        throw py::error_already_set();
+    }
     return Int32(v);
 }
 
@@ -54,11 +62,148 @@ std::string typeNameOf(py::handle obj) {
 
 // ---- Metadata
 
+namespace {
+
+// Metadata types that the library keeps as opaque bytes but Python users store (pyopenvdb
+// writes 2- and 4-tuples as vec2i/vec2d/vec4i/vec4d and 4 x 4 nested lists as mat4d): their
+// payloads are the components, little-endian, row by row for matrices.
+struct FixedMetaType {
+    const char* name;
+    int count;    // components
+    char scalar;  // 'i': int32, 's': float, 'd': double
+    bool matrix;  // a 4 x 4 matrix, returned as a list of lists
+};
+constexpr FixedMetaType FIXED_META_TYPES[] = {{"vec2i", 2, 'i', false}, {"vec2s", 2, 's', false},
+                                              {"vec2d", 2, 'd', false}, {"vec4i", 4, 'i', false},
+                                              {"vec4s", 4, 's', false}, {"vec4d", 4, 'd', false},
+                                              {"mat4s", 16, 's', true}, {"mat4d", 16, 'd', true}};
+
+const FixedMetaType* fixedMetaType(std::string_view name) {
+    for (const auto& t : FIXED_META_TYPES)
+        if (name == t.name)
+            return &t;
+    return nullptr;
+}
+
+size_t scalarSize(char scalar) {
+    return scalar == 'd' ? 8 : 4;
+}
+
+/// The components of an opaque value of a fixed type, or None when its size is wrong.
+py::object fixedMetaToPython(const FixedMetaType& t, const std::vector<uint8_t>& bytes) {
+    if (bytes.size() != size_t(t.count) * scalarSize(t.scalar))
+        return py::none();
+    std::vector<py::object> items;
+    for (int i = 0; i < t.count; ++i) {
+        const uint8_t* p = bytes.data() + size_t(i) * scalarSize(t.scalar);
+        if (t.scalar == 'i') {
+            Int32 v;
+            std::memcpy(&v, p, 4);
+            items.push_back(py::int_(v));
+        } else if (t.scalar == 's') {
+            float v;
+            std::memcpy(&v, p, 4);
+            items.push_back(py::float_(double(v)));
+        } else {
+            double v;
+            std::memcpy(&v, p, 8);
+            items.push_back(py::float_(v));
+        }
+    }
+    if (!t.matrix) {
+        py::tuple out(items.size());
+        for (size_t i = 0; i < items.size(); ++i)
+            out[i] = items[i];
+        return out;
+    }
+    py::list rows;
+    for (int r = 0; r < 4; ++r) {
+        py::list row;
+        for (int c = 0; c < 4; ++c)
+            row.append(items[size_t(r * 4 + c)]);
+        rows.append(row);
+    }
+    return rows;
+}
+
+OpaqueMetadata fixedMeta(const char* type, const std::vector<double>& values, bool integers) {
+    OpaqueMetadata meta{type, {}};
+    for (double v : values) {
+        if (integers) {
+            const Int32 i = Int32(v);
+            const auto* p = reinterpret_cast<const uint8_t*>(&i);
+            meta.bytes.insert(meta.bytes.end(), p, p + 4);
+        } else {
+            const auto* p = reinterpret_cast<const uint8_t*>(&v);
+            meta.bytes.insert(meta.bytes.end(), p, p + 8);
+        }
+    }
+    return meta;
+}
+
+[[noreturn]] void refuseMeta(py::handle obj) {
+    throw py::type_error("metadata value \"" + std::string(py::str(obj)) + "\" of type " +
+                         typeNameOf(obj) +
+                         " is not allowed (metadata values are bool, int, float, str, tuples "
+                         "of 2 to 4 numbers, 4 x 4 nested sequences of numbers or "
+                         "vdb.Metadata)");
+}
+
+/// An int as int32 or int64 by range. @throw OverflowError beyond 64 bits.
+MetaValue metaInteger(py::handle obj) {
+    py::int_ value = py::reinterpret_steal<py::int_>(PyNumber_Index(obj.ptr()));
+    if (!value)
+        throw py::error_already_set();
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+    if (overflow != 0) {
+        PyErr_SetString(PyExc_OverflowError, ("metadata integer " + std::string(py::str(value)) +
+                                              " does not fit in 64 bits")
+                                                 .c_str());
+        throw py::error_already_set();
+    }
+    if (v >= std::numeric_limits<Int32>::min() && v <= std::numeric_limits<Int32>::max())
+        return Int32(v);
+    return Int64(v);
+}
+
+/// The items of a list or tuple (or of a 1- or 2-dimensional NumPy array, as lists), or
+/// nothing for other objects.
+std::optional<std::vector<py::object>> metaItems(py::handle obj) {
+    py::object seq = py::reinterpret_borrow<py::object>(obj);
+    if (py::isinstance<py::array>(obj))
+        seq = seq.attr("tolist")();
+    if (!PyList_Check(seq.ptr()) && !PyTuple_Check(seq.ptr()))
+        return std::nullopt;
+    std::vector<py::object> items;
+    for (py::handle item : seq)
+        items.push_back(py::reinterpret_borrow<py::object>(item));
+    return items;
+}
+
+/// A Python int or bool (not a float), as pyopenvdb counts vector components.
+bool isIntegral(py::handle obj) {
+    return PyLong_Check(obj.ptr()) || (PyIndex_Check(obj.ptr()) && !PyFloat_Check(obj.ptr()) &&
+                                       !PySequence_Check(obj.ptr()));  // not a NumPy array
+}
+
+bool isNumber(py::handle obj) {
+    return isIntegral(obj) || PyFloat_Check(obj.ptr()) ||
+           py::isinstance(obj, py::module_::import("numpy").attr("floating"));
+}
+
+}  // namespace
+
 py::object metaToPython(const MetaValue& value) {
     return std::visit(
         [](const auto& v) -> py::object {
             using T = std::decay_t<decltype(v)>;
             if constexpr (std::is_same_v<T, OpaqueMetadata>) {
+                if (const FixedMetaType* t = fixedMetaType(v.typeName)) {
+                    py::object o = fixedMetaToPython(*t, v.bytes);
+                    if (!o.is_none())
+                        return o;
+                }
                 return py::cast(v);
             } else if constexpr (std::is_same_v<T, float>) {
                 return py::float_(double(v));
@@ -71,51 +216,68 @@ py::object metaToPython(const MetaValue& value) {
         value);
 }
 
-MetaValue metaFromPython(py::handle obj) {
+std::optional<MetaValue> metaFromPython(py::handle obj) {
+    if (obj.is_none())
+        return std::nullopt;  // pyopenvdb stores nothing for None
     if (PyBool_Check(obj.ptr()))
-        return obj.cast<bool>();
+        return MetaValue(obj.cast<bool>());
     if (py::isinstance<py::str>(obj))
-        return obj.cast<std::string>();
+        return MetaValue(obj.cast<std::string>());
+    if (PyBytes_Check(obj.ptr()))
+        return MetaValue(std::string(PyBytes_AsString(obj.ptr()), size_t(PyBytes_Size(obj.ptr()))));
     if (py::isinstance<OpaqueMetadata>(obj))
-        return obj.cast<OpaqueMetadata>();
-    if (PyLong_Check(obj.ptr()) ||
-        (PyIndex_Check(obj.ptr()) && !PyFloat_Check(obj.ptr()) && !PySequence_Check(obj.ptr()))) {
-        py::int_ value = py::reinterpret_steal<py::int_>(PyNumber_Index(obj.ptr()));
-        if (!value)
-            throw py::error_already_set();
-        int overflow = 0;
-        const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
-        if (overflow != 0)
-            throw py::value_error("metadata integer " + std::string(py::str(value)) +
-                                  " does not fit in 64 bits");
-        if (v >= std::numeric_limits<Int32>::min() && v <= std::numeric_limits<Int32>::max())
-            return Int32(v);
-        return Int64(v);
-    }
-    if (PyFloat_Check(obj.ptr()) ||
-        py::isinstance(obj, py::module_::import("numpy").attr("floating")))
-        return obj.cast<double>();
-    py::object items[3];
-    if (sequence3(obj, items)) {
-        bool allInt = true;
-        for (const auto& item : items) {
-            if (!PyIndex_Check(item.ptr()) || PyBool_Check(item.ptr()))
-                allInt = false;
+        return MetaValue(obj.cast<OpaqueMetadata>());
+    if (isIntegral(obj))
+        return metaInteger(obj);
+    if (isNumber(obj))
+        return MetaValue(obj.cast<double>());
+    const auto items = metaItems(obj);
+    if (!items)
+        refuseMeta(obj);
+    const size_t n = items->size();
+    // A 4 x 4 matrix: four rows of four numbers.
+    if (n == 4 && metaItems((*items)[0])) {
+        std::vector<double> values;
+        for (const auto& row : *items) {
+            const auto cells = metaItems(row);
+            if (!cells || cells->size() != 4)
+                refuseMeta(obj);
+            for (const auto& c : *cells) {
+                if (!isNumber(c))
+                    refuseMeta(obj);
+                values.push_back(c.cast<double>());
+            }
         }
-        if (allInt) {
-            Vec3i v;
-            for (int i = 0; i < 3; ++i)
-                v[i] = toInt32(items[i]);
-            return v;
-        }
-        py::detail::make_caster<Vec3d> caster;
-        if (caster.load(obj, true))
-            return py::detail::cast_op<Vec3d>(caster);
+        return MetaValue(fixedMeta("mat4d", values, false));
     }
-    throw py::type_error(
-        "metadata values are bool, int, float, str, 3-tuples of numbers or "
-        "vdb.Metadata; got " +
-        typeNameOf(obj));
+    if (n < 2 || n > 4)
+        refuseMeta(obj);
+    bool allInt = true;
+    for (const auto& item : *items) {
+        if (!isNumber(item))
+            refuseMeta(obj);
+        allInt = allInt && isIntegral(item);
+    }
+    std::vector<double> values;
+    if (allInt) {
+        Vec3i v3;
+        for (size_t i = 0; i < n; ++i) {
+            const Int32 c =
+                toInt32(PyBool_Check((*items)[i].ptr()) ? py::int_((*items)[i].cast<bool>() ? 1 : 0)
+                                                        : (*items)[i]);
+            values.push_back(double(c));
+            if (i < 3)
+                v3[int(i)] = c;
+        }
+        if (n == 3)
+            return MetaValue(v3);
+        return MetaValue(fixedMeta(n == 2 ? "vec2i" : "vec4i", values, true));
+    }
+    for (const auto& item : *items)
+        values.push_back(item.cast<double>());
+    if (n == 3)
+        return MetaValue(Vec3d(values[0], values[1], values[2]));
+    return MetaValue(fixedMeta(n == 2 ? "vec2d" : "vec4d", values, false));
 }
 
 py::dict metaMapToDict(const MetaMap& map) {
@@ -133,10 +295,66 @@ void updateMetaMap(MetaMap& map, py::handle dict) {
     for (auto [key, value] : py::reinterpret_borrow<py::dict>(dict)) {
         if (!py::isinstance<py::str>(key))
             throw py::type_error("metadata names are str, got " + typeNameOf(key));
-        entries.emplace_back(key.cast<std::string>(), metaFromPython(value));
+        if (auto v = metaFromPython(value))
+            entries.emplace_back(key.cast<std::string>(), std::move(*v));
     }
     for (auto& [name, value] : entries)
         map.insertMeta(name, value);
+}
+
+// ---- Pickling
+
+namespace {
+constexpr const char* PICKLE_HALF = "vdb_pickle_save_float_as_half";
+}
+
+py::bytes archiveBytes(const GridBase::Ptr& grid, bool half) {
+    MetaMap meta;
+    if (half)
+        meta.insertMeta(PICKLE_HALF, true);
+    std::ostringstream os;
+    {
+        py::gil_scoped_release release;
+        io::Stream out(os);
+        out.setGridStatsMetadataEnabled(false);
+        out.write(GridCPtrVec{grid}, meta);
+    }
+    return py::bytes(os.str());
+}
+
+GridBase::Ptr gridFromArchive(py::handle state) {
+    if (!PyBytes_Check(state.ptr()))
+        throw py::value_error("unpickling: expected the bytes that pickling wrote, got " +
+                              typeNameOf(state));
+    const std::string bytes = state.cast<std::string>();
+    GridPtrVecPtr grids;
+    MetaMap meta;
+    {
+        py::gil_scoped_release release;
+        std::istringstream is(bytes);
+        io::Stream in(is);
+        grids = in.getGrids();
+        meta = in.getMetadata();
+    }
+    if (!grids || grids->size() != 1)
+        throw py::value_error("unpickling: the bytes do not hold one grid");
+    GridBase::Ptr grid = grids->front();
+    if (const bool* half = meta.getMeta<bool>(PICKLE_HALF); half && *half)
+        grid->setSaveFloatAsHalf(true);
+    return grid;
+}
+
+py::tuple reduceGrid(const GridBase::Ptr& grid) {
+    // A shallow copy (sharing the tree) written at full precision: a pickle is a copy, not a
+    // file, so values are not rounded to halves; the half flag travels as archive metadata.
+    GridBase::Ptr copy = grid;
+    const bool half = grid->saveFloatAsHalf();
+    if (half) {
+        copy = grid->copyGrid();
+        copy->setSaveFloatAsHalf(false);
+    }
+    return py::make_tuple(py::module_::import("vdb").attr("_restore_grid"),
+                          py::make_tuple(archiveBytes(copy, half)));
 }
 
 // ---- Module-level classes
@@ -158,11 +376,43 @@ math::Mat4d matrixFromPython(py::handle obj) {
     return m;
 }
 
+namespace {
+/// pyopenvdb's createLinearTransform(matrix): ValueError for anything but 4 x 4 numbers,
+/// ArithmeticError for a matrix that is not affine.
+math::Transform::Ptr linearTransformFromMatrix(py::handle matrix) {
+    math::Mat4d m;
+    try {
+        m = matrixFromPython(matrix);
+    } catch (const py::type_error&) {
+        throw py::value_error("createLinearTransform: expected a 4 x 4 sequence of numbers, got " +
+                              std::string(py::repr(matrix)));
+    }
+    if (!m.isAffine()) {
+        PyErr_SetString(PyExc_ArithmeticError,
+                        "createLinearTransform: the matrix is not affine (its last column must "
+                        "be (0, 0, 0, 1))");
+        throw py::error_already_set();
+    }
+    return math::Transform::createLinearTransform(m);
+}
+}  // namespace
+
 void bindConvert(py::module_& m) {
     py::enum_<math::Axis>(m, "Axis", "A coordinate axis, for Transform.rotate and shear.")
         .value("X", math::Axis::X)
         .value("Y", math::Axis::Y)
         .value("Z", math::Axis::Z);
+    {
+        // pyopenvdb's Axis.names and Axis.values.
+        py::object axis = m.attr("Axis");
+        py::dict names, values;
+        for (const auto& [key, value] : {std::pair{"X", 0}, std::pair{"Y", 1}, std::pair{"Z", 2}}) {
+            names[key] = axis.attr(key);
+            values[py::int_(value)] = axis.attr(key);
+        }
+        axis.attr("names") = names;
+        axis.attr("values") = values;
+    }
 
     py::class_<OpaqueMetadata>(m, "Metadata",
                                "A metadata value of a type with no Python equivalent, kept as "
@@ -198,7 +448,7 @@ void bindConvert(py::module_& m) {
         .def(
             "indexToWorld",
             [](const Transform& t, const Vec3d& ijk) { return t.indexToWorld(ijk); },
-            py::arg("ijk"), "indexToWorld((i, j, k)) -> (x, y, z)")
+            py::arg("xyz"), "indexToWorld((i, j, k)) -> (x, y, z)")
         .def(
             "worldToIndex",
             [](const Transform& t, const Vec3d& xyz) { return t.worldToIndex(xyz); },
@@ -237,7 +487,7 @@ void bindConvert(py::module_& m) {
             "scale", [](Transform& t, double s) { t.preScale(s); }, py::arg("s"),
             "scale(s): accumulate a uniform scale (in index space, as pyopenvdb does).")
         .def(
-            "scale", [](Transform& t, const Vec3d& s) { t.preScale(s); }, py::arg("s"),
+            "scale", [](Transform& t, const Vec3d& s) { t.preScale(s); }, py::arg("sxyz"),
             "scale((sx, sy, sz)): accumulate a nonuniform scale (in index space).")
         .def(
             "matrix",
@@ -269,8 +519,33 @@ void bindConvert(py::module_& m) {
                  s << "vdb.Transform(" << t << ")";
                  return s.str();
              })
-        .def("__eq__", [](const Transform& a, const Transform& b) { return a == b; })
-        .def("__ne__", [](const Transform& a, const Transform& b) { return !(a == b); })
+        .def(
+            "shear",
+            [](Transform& t, double s, math::Axis axis0, math::Axis axis1) {
+                // Row axis1 gains s times row axis0, in index space (before the map), as
+                // pyopenvdb's shear (OpenVDB's preShear).
+                math::Mat4d m = math::Mat4d::identity();
+                m(int(axis1), int(axis0)) = s;
+                t.preMult(m);
+            },
+            py::arg("s"), py::arg("axis0"), py::arg("axis1"),
+            "shear(s, axis0, axis1): accumulate a shear of axis0 by s times axis1 (Axis.X, "
+            "Axis.Y or Axis.Z), in index space, as pyopenvdb does.")
+        .def(
+            "__eq__", [](const Transform& a, const Transform& b) { return a == b; },
+            py::is_operator())
+        .def(
+            "__ne__", [](const Transform& a, const Transform& b) { return !(a == b); },
+            py::is_operator())
+        .def("__reduce__",
+             [](const Transform& t) {
+                 // pickle (every protocol) and copy.deepcopy: the transform as the archive of an
+                 // empty grid, restored by _restoreTransform.
+                 auto holder = FloatGrid::create();
+                 holder->setTransform(std::make_shared<Transform>(t));
+                 return py::make_tuple(py::module_::import("vdb").attr("_restore_transform"),
+                                       py::make_tuple(archiveBytes(holder, false)));
+             })
         .def("isApproxEqual", &Transform::isApproxEqual, py::arg("other"), py::arg("relTol") = 1e-6,
              "isApproxEqual(other, relTol=1e-6) -> bool: the same map to a relative tolerance.");
 
@@ -287,12 +562,24 @@ void bindConvert(py::module_& m) {
                         std::string(py::repr(arg)));
                 return Transform::createLinearTransform(voxelSize);
             }
-            return Transform::createLinearTransform(matrixFromPython(arg));
+            return linearTransformFromMatrix(arg);
         },
         py::arg("voxelSize") = 1.0,
         "createLinearTransform(voxelSize=1.0) -> Transform: a uniform scale.\n"
         "createLinearTransform(matrix) -> Transform: from a 4 x 4 matrix given as rows\n"
         "[[a, b, c, 0], [d, e, f, 0], [g, h, i, 0], [tx, ty, tz, 1]].");
+    m.def(
+        "createLinearTransform",
+        [](py::object matrix) { return linearTransformFromMatrix(matrix); }, py::arg("matrix"),
+        "createLinearTransform(matrix=[[...], [...], [...], [...]]) -> Transform: from a 4 x 4 "
+        "matrix given as rows (the last row is the translation).");
+    m.def(
+        "_restoreGrid", [](py::handle state) { return gridFromArchive(state); }, py::arg("state"),
+        "_restoreGrid(bytes) -> grid: unpickles a grid (see vdb._restore_grid).");
+    m.def(
+        "_restoreTransform",
+        [](py::handle state) { return gridFromArchive(state)->transformPtr(); }, py::arg("state"),
+        "_restoreTransform(bytes) -> Transform: unpickles a transform.");
     m.def(
         "createFrustumTransform",
         [](const Vec3d& xyzMin, const Vec3d& xyzMax, double taper, double depth, double voxelSize) {
@@ -303,46 +590,56 @@ void bindConvert(py::module_& m) {
         py::arg("voxelSize") = 1.0,
         "createFrustumTransform(xyzMin, xyzMax, taper, depth, voxelSize=1.0) -> Transform");
 
-    // pyopenvdb's GridClass: string constants with dict-like access.
-    py::module_ gc = m.def_submodule("GridClass", "Classes of volumetric data.");
-    gc.attr("UNKNOWN") = "unknown";
-    gc.attr("LEVEL_SET") = "level set";
-    gc.attr("FOG_VOLUME") = "fog volume";
-    gc.attr("STAGGERED") = "staggered";
-
-    // pyopenvdb's VectorType: a class whose attributes are the vector type names, with keys()
-    // and, on an instance, len(), iteration over the keys and lookup by key.
+    // pyopenvdb's GridClass and VectorType: classes whose attributes are the names' values,
+    // with keys() and, on an instance, len(), iteration over the keys and lookup by key.
+    const auto nameClass = [&m](auto tag, const char* name, const char* doc,
+                                const std::vector<std::pair<std::string, std::string>>& items) {
+        using Tag = decltype(tag);
+        py::class_<Tag> c(m, name, doc);
+        py::dict names;
+        for (const auto& [key, value] : items) {
+            names[py::str(key)] = value;
+            c.attr(key.c_str()) = value;
+        }
+        c.def(py::init<>())
+            .def_static(
+                "keys", [names]() { return names.attr("keys")(); }, "keys() -> the names")
+            .def("__len__", [names](const Tag&) { return py::len(names); })
+            .def("__iter__", [names](const Tag&) { return py::iter(names); })
+            .def("__getitem__", [names](const Tag&, py::handle key) -> py::object {
+                if (!names.contains(key)) {
+                    PyErr_SetObject(PyExc_KeyError, key.ptr());  // KeyError(key), as dict raises
+                    throw py::error_already_set();
+                }
+                return names[key];
+            });
+    };
+    struct GridClassNames {};
+    nameClass(GridClassNames{}, "GridClass",
+              "Classes of volumetric data (a grid's gridClass): UNKNOWN, LEVEL_SET, FOG_VOLUME, "
+              "STAGGERED.",
+              {{"UNKNOWN", "unknown"},
+               {"LEVEL_SET", "level set"},
+               {"FOG_VOLUME", "fog volume"},
+               {"STAGGERED", "staggered"}});
     struct VectorTypeNames {};
-    py::class_<VectorTypeNames> vt(
-        m, "VectorType",
-        "How transforms apply to the values of a vector grid (the grid's vectorType):\n"
-        "  INVARIANT: not transformed (a colour, a tuple)\n"
-        "  COVARIANT: by the inverse transpose, without translation (a gradient, a normal)\n"
-        "  COVARIANT_NORMALIZE: as COVARIANT, then normalised (a unit normal)\n"
-        "  CONTRAVARIANT_RELATIVE: by the linear part, without translation (a velocity)\n"
-        "  CONTRAVARIANT_ABSOLUTE: as a point, translation included (a position)");
-    py::dict names;
+    std::vector<std::pair<std::string, std::string>> vecTypes;
     for (int t = 0; t < NUM_VEC_TYPES; ++t) {
         const std::string value(vecTypeToString(VecType(t)));
         std::string key = value;  // "covariant normalize" -> "COVARIANT_NORMALIZE"
         for (char& c : key)
             c = c == ' ' ? '_' : char(std::toupper(static_cast<unsigned char>(c)));
-        names[py::str(key)] = value;
-        vt.attr(key.c_str()) = value;
+        vecTypes.emplace_back(key, value);
     }
-    vt.def(py::init<>())
-        .def_static(
-            "keys", [names]() { return names.attr("keys")(); },
-            "keys() -> the names of the vector types (INVARIANT, COVARIANT, ...)")
-        .def("__len__", [names](const VectorTypeNames&) { return py::len(names); })
-        .def("__iter__", [names](const VectorTypeNames&) { return py::iter(names); })
-        .def("__getitem__", [names](const VectorTypeNames&, py::handle key) -> py::object {
-            if (!names.contains(key)) {
-                PyErr_SetObject(PyExc_KeyError, key.ptr());  // KeyError(key), as dict raises
-                throw py::error_already_set();
-            }
-            return names[key];
-        });
+    nameClass(VectorTypeNames{}, "VectorType",
+              "How transforms apply to the values of a vector grid (the grid's vectorType):\n"
+              "  INVARIANT: not transformed (a colour, a tuple)\n"
+              "  COVARIANT: by the inverse transpose, without translation (a gradient, a "
+              "normal)\n"
+              "  COVARIANT_NORMALIZE: as COVARIANT, then normalised (a unit normal)\n"
+              "  CONTRAVARIANT_RELATIVE: by the linear part, without translation (a velocity)\n"
+              "  CONTRAVARIANT_ABSOLUTE: as a point, translation included (a position)",
+              vecTypes);
 }
 
 }  // namespace vdb::python

@@ -413,7 +413,7 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             py::gil_scoped_release release;
             tools::prune(g.tree(), tol);
         },
-        py::arg("tolerance") = py::none(),
+        py::arg("tolerance") = 0,
         "prune(tolerance=0): replace nodes whose values share one active state and lie "
         "within the tolerance of each other with tiles.");
     cls.def(
@@ -478,6 +478,11 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             return g.deepCopy();
         },
         "deepCopy() -> grid: a copy with its own tree.");
+    // pickle (every protocol) and copy.deepcopy: the grid as a one-grid .vdb archive at full
+    // precision, so that values, states, tiles, metadata, transform and class all come back.
+    cls.def(
+        "__reduce__", [](const GridPtr& g) { return reduceGrid(g); },
+        "__reduce__() -> (vdb._restore_grid, (bytes,)): for pickle and copy.deepcopy.");
     cls.def(
         "sharesWith",
         [](const GridT& g, py::handle other) {
@@ -501,7 +506,7 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
                 },
                 /*prune=*/true, /*threaded=*/false);
         },
-        py::arg("other"), py::arg("function"),
+        py::arg("grid"), py::arg("function"),
         "combine(grid, function): set every value (tile or voxel, and the background) of "
         "this grid to function(a, b) of it and the other grid's value there; a value is "
         "active where either was; then prunes nodes left constant, as pyopenvdb does. Empties "
@@ -597,7 +602,7 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             py::gil_scoped_release release;
             tools::copyFromDense(*box.dense, g, tol);
         },
-        py::arg("array"), py::arg("ijk") = Coord(0), py::arg("tolerance") = py::none(),
+        py::arg("array"), py::arg("ijk") = Coord(0), py::arg("tolerance") = ValueT{},
         "copyFromArray(array, ijk=(0, 0, 0), tolerance=0): set the voxels of the box that "
         "starts at ijk from a 3-D array (4-D, last axis 3, for vector grids) indexed [x][y][z]; "
         "voxels within the tolerance of the background become inactive background.\n"
@@ -911,17 +916,46 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
         "for BoolGrid and MaskGrid, whose leaves store bits (TypeError).");
 
     // ---- Meshes
-    if constexpr (IS_FLOAT) {
+    if constexpr (IS_FLOAT || (std::is_same_v<ValueT, bool> && !IS_MASK)) {
+        // A BoolGrid is meshed as pyopenvdb meshes it (OpenVDB's volumeToMesh on bools): true
+        // is inside whatever the isovalue, and each edge crossing lies at
+        // t = (isovalue - v0) / (v1 - v0) with the values as 0 and 1: on the outside voxel for
+        // isovalue 0, halfway for 0.5. A FloatGrid of the same topology holding -1 for true and
+        // 0 for false, meshed at -isovalue (isovalue kept in [0, 1)), has those crossings.
+        const auto meshable = [](const GridT& g, double& isovalue) {
+            if constexpr (IS_FLOAT) {
+                return std::shared_ptr<const GridT>(std::shared_ptr<const GridT>{}, &g);
+            } else {
+                isovalue = -std::clamp(isovalue, 0.0, 1.0 - 1e-6);
+                auto f = FloatGrid::create(0.0f);
+                f->setTransform(g.transformPtr());
+                FloatTree& ft = f->tree();
+                ft.topologyUnion(g.tree(), /*preserveTiles=*/true);
+                visitBlocks(g.tree(), ValueFilter::All, true, [&](const Block<TreeT>& b) {
+                    if (b.leaf) {
+                        auto* fl = ft.probeLeaf(b.origin);
+                        if (!fl)
+                            fl = ft.touchLeaf(b.origin);
+                        for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
+                            fl->setValueOnly(n, b.leaf->getValue(n) ? -1.0f : 0.0f);
+                    } else if (b.value || b.active) {
+                        ft.addTile(b.level, b.origin, b.value ? -1.0f : 0.0f, b.active);
+                    }
+                });
+                return std::shared_ptr<const FloatGrid>(f);
+            }
+        };
         cls.def(
             "convertToPolygons",
-            [](const GridT& g, double isovalue, double adaptivity) {
+            [meshable](const GridT& g, double isovalue, double adaptivity) {
                 std::vector<Vec3s> points;
                 std::vector<Vec3I> triangles;
                 std::vector<Vec4I> quads;
                 {
                     py::gil_scoped_release release;
-                    tools::volumeToMesh(static_cast<const GridBase&>(g), points, triangles, quads,
-                                        isovalue, adaptivity);
+                    const auto grid = meshable(g, isovalue);
+                    tools::volumeToMesh(static_cast<const GridBase&>(*grid), points, triangles,
+                                        quads, isovalue, adaptivity);
                 }
                 py::array_t<float> p({py::ssize_t(points.size()), py::ssize_t(3)});
                 py::array_t<uint32_t> t({py::ssize_t(triangles.size()), py::ssize_t(3)});
@@ -934,15 +968,17 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             py::arg("isovalue") = 0.0, py::arg("adaptivity") = 0.0,
             "convertToPolygons(isovalue=0, adaptivity=0) -> points, triangles, quads: mesh the "
             "isosurface; world-space float32 points (P, 3) and uint32 index arrays (T, 3) and "
-            "(Q, 4). Adaptivity 0 gives quads only; up to 1 merges flat regions.");
+            "(Q, 4). Adaptivity 0 gives quads only; up to 1 merges flat regions. A BoolGrid's "
+            "surface bounds its true voxels, as in pyopenvdb.");
         cls.def(
             "convertToQuads",
-            [](const GridT& g, double isovalue) {
+            [meshable](const GridT& g, double isovalue) {
                 std::vector<Vec3s> points;
                 std::vector<Vec4I> quads;
                 {
                     py::gil_scoped_release release;
-                    tools::volumeToMesh(g, points, quads, isovalue);
+                    const auto grid = meshable(g, isovalue);
+                    tools::volumeToMesh(*grid, points, quads, isovalue);
                 }
                 py::array_t<float> p({py::ssize_t(points.size()), py::ssize_t(3)});
                 py::array_t<uint32_t> q({py::ssize_t(quads.size()), py::ssize_t(4)});
@@ -952,25 +988,42 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             },
             py::arg("isovalue") = 0.0,
             "convertToQuads(isovalue=0) -> points, quads: mesh the isosurface with quads.");
+    }
+    if constexpr (IS_FLOAT) {
         cls.def_static(
             "createLevelSetFromPolygons",
             [](py::handle pointsObj, py::handle trianglesObj, py::handle quadsObj,
                std::shared_ptr<math::Transform> xform, double halfWidth) {
                 auto numpy = py::module_::import("numpy");
+                // Points: any array or nested sequence of numbers (not bools), shape (N, 3).
+                // Faces: of integers of any dtype, or of floats holding whole numbers (pyopenvdb
+                // takes those too). Wrong dtypes and shapes are TypeError, as in pyopenvdb.
                 const auto rows = [&](py::handle obj, int width, const char* what, bool isIndex) {
-                    py::array arr = numpy.attr("asarray")(obj);
+                    py::array arr;
+                    try {
+                        arr = numpy.attr("asarray")(obj);
+                    } catch (const py::error_already_set&) {
+                        throw py::type_error(std::string("createLevelSetFromPolygons: ") + what +
+                                             " must be an array of numbers, got " +
+                                             typeNameOf(obj));
+                    }
                     const char kind = arr.dtype().kind();
-                    if (isIndex ? (kind != 'i' && kind != 'u')
-                                : (kind != 'i' && kind != 'u' && kind != 'f'))
+                    if (kind != 'i' && kind != 'u' && kind != 'f')
                         throw py::type_error(std::string("createLevelSetFromPolygons: ") + what +
                                              (isIndex ? " must be integers" : " must be numbers") +
                                              ", got dtype " + std::string(py::str(arr.dtype())));
+                    if (isIndex && kind == 'f' &&
+                        !numpy.attr("array_equal")(arr, numpy.attr("floor")(arr)).cast<bool>())
+                        throw py::type_error(std::string("createLevelSetFromPolygons: ") + what +
+                                             " must be integers, got fractional or non-finite "
+                                             "values of dtype " +
+                                             std::string(py::str(arr.dtype())));
                     if (arr.size() == 0)
                         return arr;
                     if (arr.ndim() != 2 || arr.shape(1) != width)
-                        throw py::value_error(std::string("createLevelSetFromPolygons: ") + what +
-                                              " must have shape (N, " + std::to_string(width) +
-                                              "), got " + std::string(py::str(arr.attr("shape"))));
+                        throw py::type_error(std::string("createLevelSetFromPolygons: ") + what +
+                                             " must have shape (N, " + std::to_string(width) +
+                                             "), got " + std::string(py::str(arr.attr("shape"))));
                     return arr;
                 };
                 std::vector<Vec3s> points;
@@ -1019,6 +1072,36 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             "halfWidth=3) -> grid: the narrow-band level set of a mesh of world-space points "
             "(N, 3) and (T, 3) / (Q, 4) index arrays, sampled with the transform (identity if "
             "None). Meshes with holes are signed by winding numbers.");
+    } else {
+        // pyopenvdb's grid classes all have these; on grids of other values they raise
+        // TypeError (a BoolGrid meshes, above).
+        const std::string meshing = std::string("volume to mesh conversion needs a grid of ") +
+                                    "floating-point values or bools, not a " + name;
+        const std::string leveling = std::string("mesh to volume conversion needs a grid of ") +
+                                     "floating-point values (FloatGrid or DoubleGrid), not a " +
+                                     name;
+        if constexpr (!std::is_same_v<ValueT, bool> || IS_MASK) {
+            cls.def(
+                "convertToPolygons",
+                [meshing](const GridT&, py::object, py::object) -> py::tuple {
+                    throw py::type_error(meshing);
+                },
+                py::arg("isovalue") = 0.0, py::arg("adaptivity") = 0.0,
+                "Raises TypeError: only grids of floating-point values or bools are meshed.");
+            cls.def(
+                "convertToQuads",
+                [meshing](const GridT&, py::object) -> py::tuple { throw py::type_error(meshing); },
+                py::arg("isovalue") = 0.0,
+                "Raises TypeError: only grids of floating-point values or bools are meshed.");
+        }
+        cls.def_static(
+            "createLevelSetFromPolygons",
+            [leveling](py::object, py::object, py::object, py::object, py::object) -> py::object {
+                throw py::type_error(leveling);
+            },
+            py::arg("points"), py::arg("triangles") = py::none(), py::arg("quads") = py::none(),
+            py::arg("transform") = py::none(), py::arg("halfWidth") = 3.0,
+            "Raises TypeError: level sets are grids of floating-point values.");
     }
 
     // ---- Nested classes
@@ -1106,25 +1189,41 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
             "copy", [](const Acc& a) { return Acc(a.grid); }, "copy() -> Accessor");
     cacc.def(
         "copy", [](const CAcc& a) { return CAcc(a.grid); }, "copy() -> ConstAccessor");
+    // pyopenvdb's ConstAccessor has the setters, with the Accessor's keywords, and refuses
+    // them with TypeError.
+    const auto readOnly = [](const CAcc&, py::handle, py::handle) {
+        throw py::type_error("accessor is read-only");
+    };
+    cacc.def("setValueOn", readOnly, py::arg("ijk"), py::arg("value") = py::none(),
+             "Raises TypeError: a ConstAccessor cannot write.")
+        .def("setValueOff", readOnly, py::arg("ijk"), py::arg("value") = py::none(),
+             "Raises TypeError: a ConstAccessor cannot write.")
+        .def("setValueOnly", readOnly, py::arg("ijk"), py::arg("value"),
+             "Raises TypeError: a ConstAccessor cannot write.")
+        .def("setActiveState", readOnly, py::arg("ijk"), py::arg("on"),
+             "Raises TypeError: a ConstAccessor cannot write.");
 
     using PV = PyValue<GridT>;
     py::class_<PV> value(cls, "Value", "A tile or voxel value of the grid (from an iterator).");
-    const auto checkWritable = [](const PV& v) {
+    // Writing through an item of a const iterator (citer...) is AttributeError, as setting a
+    // read-only attribute is, and as in pyopenvdb.
+    const auto checkWritable = [](const PV& v, const char* attribute) {
         if (!v.writable)
-            throw py::type_error("this value comes from a read-only iterator (citer...)");
+            throw py::attribute_error(std::string("can't set attribute '") + attribute +
+                                      "': this value comes from a read-only iterator (citer...)");
     };
     value
         .def_property(
             "value", [](const PV& v) { return v.grid->tree().getValue(v.min); },
             [checkWritable](PV& v, py::handle x) {
-                checkWritable(v);
+                checkWritable(v, "value");
                 TreeT& tree = v.grid->tree();
                 setBlock(tree, v.level, v.min, toValue<ValueT>(x, "value"), tree.isValueOn(v.min));
             })
         .def_property(
             "active", [](const PV& v) { return v.grid->tree().isValueOn(v.min); },
             [checkWritable](PV& v, bool on) {
-                checkWritable(v);
+                checkWritable(v, "active");
                 TreeT& tree = v.grid->tree();
                 setBlock(tree, v.level, v.min, tree.getValue(v.min), on);
             })
@@ -1143,11 +1242,38 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
                                    return Index64(d * d * d);
                                })
         .def_property_readonly("parent", [](const PV& v) { return v.grid; })
+        .def(
+            "copy", [](const PV& v) { return v; },
+            "copy() -> Value: another item for the same voxel or tile (reading the grid live)")
         .def_static("keys",
                     [] {
                         return std::vector<std::string>{"value", "active", "depth",
                                                         "min",   "max",    "count"};
                     })
+        .def("__eq__",
+             [](py::object self, py::object other) -> py::object {
+                 // Equal items: the same value, state, depth and box (as pyopenvdb compares).
+                 if (!py::isinstance<PV>(other))
+                     return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+                 for (const char* k : {"value", "active", "depth", "min", "max", "count"})
+                     if (!self.attr(k).equal(other.attr(k)))
+                         return py::bool_(false);
+                 return py::bool_(true);
+             })
+        .def("__ne__",
+             [](py::object self, py::object other) -> py::object {
+                 py::object eq = self.attr("__eq__")(other);
+                 if (eq.is(py::reinterpret_borrow<py::object>(Py_NotImplemented)))
+                     return eq;
+                 return py::bool_(!eq.cast<bool>());
+             })
+        .def("__contains__",
+             [](py::object, py::handle key) {
+                 for (const char* k : {"value", "active", "depth", "min", "max", "count"})
+                     if (py::str(key).equal(py::str(k)))
+                         return true;
+                 return false;
+             })
         .def("__getitem__",
              [](py::object self, const std::string& key) {
                  for (const char* k : {"value", "active", "depth", "min", "max", "count"})
@@ -1184,6 +1310,10 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
                  return *v;
              })
         .def_property_readonly("parent", [](const PI& it) { return it.grid; });
+    // pyopenvdb's names of its six iterator classes: here one class serves them all.
+    for (const char* alias : {"ValueOnIter", "ValueOffIter", "ValueAllIter", "ValueOnCIter",
+                              "ValueOffCIter", "ValueAllCIter"})
+        cls.attr(alias) = cls.attr("ValueIter");
 }
 
 }  // namespace vdb::python

@@ -247,8 +247,11 @@ void bindGridBase(py::module_& m) {
                      throw py::key_error(key);
                  return metaToPython(*v);
              })
-        .def("__setitem__", [](GridBase& g, const std::string& key,
-                               py::handle value) { g.insertMeta(key, metaFromPython(value)); })
+        .def("__setitem__",
+             [](GridBase& g, const std::string& key, py::handle value) {
+                 if (auto v = metaFromPython(value))
+                     g.insertMeta(key, *v);
+             })
         .def("__delitem__",
              [](GridBase& g, const std::string& key) {
                  if (!g.hasMeta(key))

@@ -21,6 +21,17 @@ from ._vdb import tools  # noqa: F401
 
 __all__ = [name for name in dir(_vdb) if not name.startswith("_")]
 
-for _cls in [*GridTypes, GridBase, Transform, Metadata, Axis, VectorType]:  # noqa: F405
+for _cls in [*GridTypes, GridBase, Transform, Metadata, Axis, GridClass, VectorType]:  # noqa: F405
     _cls.__module__ = "vdb"
 del _cls
+
+
+def _restore_grid(state):
+    """Unpickles a grid: the callable that a grid's __reduce__ names (a Python function, so
+    that pickle stores it by name)."""
+    return _vdb._restoreGrid(state)
+
+
+def _restore_transform(state):
+    """Unpickles a transform, as _restore_grid a grid."""
+    return _vdb._restoreTransform(state)
