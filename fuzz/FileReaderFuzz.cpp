@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target for the .vdb reader: any input must either read or raise vdb::IoError,
 // never crash, hang, leak or exhaust memory. Each input is opened twice, eagerly and with
-// delayed loading, and every value of every grid is visited (which loads out-of-core leaves).
+// delayed loading, and every value of every grid is visited (which loads out-of-core leaves);
+// then the same bytes are read through io::Stream.
 // Run: scripts/fuzz [seconds].
 
 #include <vdb/Grid.h>
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -90,6 +92,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         } catch (const vdb::IoError&) {
             // The one failure allowed.
         }
+    }
+    // The same bytes through io::Stream (an in-memory archive, read at once).
+    try {
+        std::istringstream is(std::string(reinterpret_cast<const char*>(data), size));
+        vdb::io::Stream stream(is);
+        (void)stream.getMetadata();
+        (void)stream.unsupportedGrids();
+        for (const auto& g : *stream.getGrids())
+            gSink = gSink + visitAll(g);
+    } catch (const vdb::IoError&) {
     }
     return 0;
 }
