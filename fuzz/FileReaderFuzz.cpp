@@ -99,7 +99,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         vdb::io::Stream stream(is);
         (void)stream.getMetadata();
         (void)stream.unsupportedGrids();
-        for (const auto& g : *stream.getGrids())
+        const auto grids = stream.getGrids();  // held: the loop must not outlive it
+        for (const auto& g : *grids)
             gSink = gSink + visitAll(g);
     } catch (const vdb::IoError&) {
     }
