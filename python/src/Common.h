@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 
@@ -30,6 +31,14 @@ namespace vdb::python {
 /// Reads `obj` as a sequence of exactly three items (a tuple, a list, a NumPy array...);
 /// false for anything else, strings included.
 bool sequence3(py::handle obj, py::object (&items)[3]);
+
+/// Raises the Python exception `type` (PyExc_OverflowError, ...) with `message`: for the
+/// built-in types pybind11 has no C++ exception for.
+[[noreturn]] void raisePython(PyObject* type, const std::string& message);
+
+/// The Python integer `obj` (or an object with __index__), or nothing when it does not fit
+/// in 64 bits. @throw the Python error of __index__.
+std::optional<Int64> indexValue(py::handle obj);
 
 /// The Python integer `obj` (or an object with __index__) as an Int32.
 /// @throw OverflowError when it lies outside [-2^31, 2^31 - 1] (as pyopenvdb), TypeError when

@@ -37,23 +37,31 @@ bool sequence3(py::handle obj, py::object (&items)[3]) {
     return true;
 }
 
-Int32 toInt32(py::handle obj) {
-    if (!PyIndex_Check(obj.ptr()))
-        throw py::type_error("expected an integer coordinate, got " + typeNameOf(obj));
+void raisePython(PyObject* type, const std::string& message) {
+    PyErr_SetString(type, message.c_str());
+    throw py::error_already_set();
+}
+
+std::optional<Int64> indexValue(py::handle obj) {
     py::int_ value = py::reinterpret_steal<py::int_>(PyNumber_Index(obj.ptr()));
     if (!value)
         throw py::error_already_set();
     int overflow = 0;
     const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
-    if (overflow != 0 || v < std::numeric_limits<Int32>::min() ||
-        v > std::numeric_limits<Int32>::max()) {
-        // OverflowError, as pyopenvdb raises for a coordinate beyond 32 bits.
-        PyErr_SetString(PyExc_OverflowError, ("coordinate " + std::string(py::str(value)) +
-                                              " is outside the 32-bit index space")
-                                                 .c_str());
-        throw py::error_already_set();
-    }
-    return Int32(v);
+    if (overflow != 0)
+        return std::nullopt;
+    return Int64(v);
+}
+
+Int32 toInt32(py::handle obj) {
+    if (!PyIndex_Check(obj.ptr()))
+        throw py::type_error("expected an integer coordinate, got " + typeNameOf(obj));
+    const auto v = indexValue(obj);
+    if (!v || *v < std::numeric_limits<Int32>::min() || *v > std::numeric_limits<Int32>::max())
+        raisePython(
+            PyExc_OverflowError,  // as pyopenvdb, for a coordinate beyond 32 bits
+            "coordinate " + std::string(py::str(obj)) + " is outside the 32-bit index space");
+    return Int32(*v);
 }
 
 std::string typeNameOf(py::handle obj) {
@@ -151,20 +159,13 @@ OpaqueMetadata fixedMeta(const char* type, const std::vector<double>& values, bo
 
 /// An int as int32 or int64 by range. @throw OverflowError beyond 64 bits.
 MetaValue metaInteger(py::handle obj) {
-    py::int_ value = py::reinterpret_steal<py::int_>(PyNumber_Index(obj.ptr()));
-    if (!value)
-        throw py::error_already_set();
-    int overflow = 0;
-    const long long v = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
-    if (overflow != 0) {
-        PyErr_SetString(PyExc_OverflowError, ("metadata integer " + std::string(py::str(value)) +
-                                              " does not fit in 64 bits")
-                                                 .c_str());
-        throw py::error_already_set();
-    }
-    if (v >= std::numeric_limits<Int32>::min() && v <= std::numeric_limits<Int32>::max())
-        return Int32(v);
-    return Int64(v);
+    const auto v = indexValue(obj);
+    if (!v)
+        raisePython(PyExc_OverflowError,
+                    "metadata integer " + std::string(py::str(obj)) + " does not fit in 64 bits");
+    if (*v >= std::numeric_limits<Int32>::min() && *v <= std::numeric_limits<Int32>::max())
+        return Int32(*v);
+    return *v;
 }
 
 /// The items of a list or tuple (or of a 1- or 2-dimensional NumPy array, as lists), or
@@ -387,12 +388,10 @@ math::Transform::Ptr linearTransformFromMatrix(py::handle matrix) {
         throw py::value_error("createLinearTransform: expected a 4 x 4 sequence of numbers, got " +
                               std::string(py::repr(matrix)));
     }
-    if (!m.isAffine()) {
-        PyErr_SetString(PyExc_ArithmeticError,
-                        "createLinearTransform: the matrix is not affine (its last column must "
-                        "be (0, 0, 0, 1))");
-        throw py::error_already_set();
-    }
+    if (!m.isAffine())
+        raisePython(PyExc_ArithmeticError,
+                    "createLinearTransform: the matrix is not affine (its last column must be "
+                    "(0, 0, 0, 1))");
     return math::Transform::createLinearTransform(m);
 }
 }  // namespace

@@ -933,9 +933,7 @@ void bindGrid(py::module_& m, const char* name, const char* doc) {
                 ft.topologyUnion(g.tree(), /*preserveTiles=*/true);
                 visitBlocks(g.tree(), ValueFilter::All, true, [&](const Block<TreeT>& b) {
                     if (b.leaf) {
-                        auto* fl = ft.probeLeaf(b.origin);
-                        if (!fl)
-                            fl = ft.touchLeaf(b.origin);
+                        auto* fl = ft.touchLeaf(b.origin);  // inactive-only leaves too
                         for (Index n = 0; n < LeafT::NUM_VALUES; ++n)
                             fl->setValueOnly(n, b.leaf->getValue(n) ? -1.0f : 0.0f);
                     } else if (b.value || b.active) {
