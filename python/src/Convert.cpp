@@ -263,9 +263,13 @@ std::optional<MetaValue> metaFromPython(py::handle obj) {
     if (allInt) {
         Vec3i v3;
         for (size_t i = 0; i < n; ++i) {
-            const Int32 c =
-                toInt32(PyBool_Check((*items)[i].ptr()) ? py::int_((*items)[i].cast<bool>() ? 1 : 0)
-                                                        : (*items)[i]);
+            const auto wide = indexValue((*items)[i]);  // a bool reads as 0 or 1
+            if (!wide || *wide < std::numeric_limits<Int32>::min() ||
+                *wide > std::numeric_limits<Int32>::max())
+                raisePython(PyExc_OverflowError, "metadata vector component " +
+                                                     std::string(py::str((*items)[i])) +
+                                                     " does not fit in 32 bits");
+            const Int32 c = Int32(*wide);
             values.push_back(double(c));
             if (i < 3)
                 v3[int(i)] = c;
