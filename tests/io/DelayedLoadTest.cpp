@@ -22,6 +22,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace vdb {
@@ -276,6 +277,78 @@ TEST_F(DelayedLoadTest, ConcurrentFirstAccessLoadsEachLeafOnce) {
         for (size_t i = 0; i < got.size(); ++i)
             ASSERT_TRUE(test::sameBits(got[i].value, expected[i].value)) << got[i].min;
     }
+}
+
+TEST_F(DelayedLoadTest, LeafIndexServesConcurrentFirstAccessAndDisjointWrites) {
+    // A file read with delayed loading gets its leaf index from the topology alone; then threads
+    // read through it (top-down and with their own accessors), loading leaves as they go, and
+    // afterwards write disjoint leaves through it. The oracle is the grid that was written.
+    auto grid = FloatGrid::create(0.25f);
+    test::fillTestGrid(*grid, 17);
+    grid->setName("g");
+    const std::string path = tempPath("index_threads.vdb");
+    io::File out(path);
+    out.setCompression(io::COMPRESS_BLOSC | io::COMPRESS_ACTIVE_MASK);
+    out.write({grid});
+    const auto delayed = readG<FloatGrid>(path, true);
+    FloatTree& tree = delayed->tree();
+    const size_t leafCount = tree.leafCount();
+    ASSERT_GT(leafCount, 10u);
+    tree.buildLeafIndex();
+    ASSERT_TRUE(tree.hasLeafIndex());
+    EXPECT_EQ(outOfCoreLeafCount(tree), leafCount);  // the index loads no values
+    std::vector<Coord> origins;
+    for (auto it = tree.cbeginLeaf(); it; ++it)
+        origins.push_back(it->origin());
+    const unsigned threadCount = 6;
+    std::atomic<size_t> mismatches{0};
+    {
+        std::barrier start(threadCount);
+        std::vector<std::thread> threads;
+        for (unsigned t = 0; t < threadCount; ++t) {
+            threads.emplace_back([&, t] {
+                std::mt19937 rng(t + 1);
+                const auto reference = grid->getConstAccessor();
+                FloatTree::ConstAccessor acc(std::as_const(tree));
+                start.arrive_and_wait();
+                for (int n = 0; n < 20000; ++n) {
+                    const Coord ijk = origins[rng() % origins.size()].offsetBy(
+                        Int32(rng() % 10) - 1, Int32(rng() % 10) - 1, Int32(rng() % 10) - 1);
+                    const float expected = reference.getValue(ijk);
+                    const float got = n % 2 ? acc.getValue(ijk) : std::as_const(tree).getValue(ijk);
+                    if (!test::sameBits(got, expected) ||
+                        acc.isValueOn(ijk) != reference.isValueOn(ijk))
+                        ++mismatches;
+                }
+            });
+        }
+        for (auto& th : threads)
+            th.join();
+    }
+    EXPECT_EQ(mismatches.load(), 0u);
+    ASSERT_TRUE(tree.hasLeafIndex());
+    // Writes to existing leaves change no topology: each thread writes its own leaves through
+    // its accessor, which finds them in the index.
+    {
+        std::barrier start(threadCount);
+        std::vector<std::thread> threads;
+        for (unsigned t = 0; t < threadCount; ++t) {
+            threads.emplace_back([&, t] {
+                FloatTree::Accessor acc(tree);
+                start.arrive_and_wait();
+                for (size_t i = t; i < origins.size(); i += threadCount)
+                    for (Int32 d = 0; d < 8; ++d)
+                        acc.setValueOnly(origins[i].offsetBy(d, 7 - d, d), float(i) + float(d));
+            });
+        }
+        for (auto& th : threads)
+            th.join();
+    }
+    EXPECT_TRUE(tree.hasLeafIndex());
+    EXPECT_EQ(tree.leafCount(), leafCount);
+    for (size_t i = 0; i < origins.size(); ++i)
+        for (Int32 d = 0; d < 8; ++d)
+            ASSERT_EQ(tree.getValue(origins[i].offsetBy(d, 7 - d, d)), float(i) + float(d));
 }
 
 /// A record that counts its loads, fails while `fail` is set, and fills values with `base`.

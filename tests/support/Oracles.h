@@ -15,6 +15,8 @@
 #include <vdb/Exceptions.h>
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
+#include <vdb/tree/AccessOps.h>
+#include <vdb/tree/InternalNode.h>
 
 #include <gtest/gtest.h>
 
@@ -643,7 +645,44 @@ struct WorkloadOptions {
     double pruneOrClearRate = 1e-3;   // per operation; one in 20 of them is a clear()
     bool checkInactiveValues = true;  // walk ValueOff/ValueAll after the last batch
     bool checkCopy = true;            // deep-copy and move the tree after the last batch
+    double leafIndexRate = 0;         // per operation: rebuild the tree's leaf index
 };
+
+/// Checks the tree's leaf index, when it has a current one, against the tree: every leaf it
+/// lists is the leaf the walk from the top finds at that origin, and every leaf of the tree is
+/// either in it or absent from it (added since it was built), never another leaf.
+template <typename TreeT>
+::testing::AssertionResult checkLeafIndex(const TreeT& tree) {
+    const auto* index = tree.leafIndex();
+    if (index == nullptr)
+        return ::testing::AssertionSuccess();
+    using LeafT = typename TreeT::LeafNodeType;
+    const auto walk = [&tree](const Coord& ijk) -> const LeafT* {
+        tree::detail::NoCache none;
+        return tree.topNode().template getAndCache<tree::ops::ProbeLeaf>(ijk, none);
+    };
+    size_t listed = 0;
+    ::testing::AssertionResult result = ::testing::AssertionSuccess();
+    index->forEachLeaf([&](const LeafT& leaf) {
+        ++listed;
+        if (result && walk(leaf.origin()) != &leaf)
+            result = ::testing::AssertionFailure()
+                     << "the leaf index lists a leaf at " << leaf.origin()
+                     << " that the tree does not hold there";
+    });
+    if (!result)
+        return result;
+    if (listed != index->size())
+        return ::testing::AssertionFailure()
+               << "the leaf index lists " << listed << " leaves, its size() says " << index->size();
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+        const LeafT* found = index->find(leaf->origin());
+        if (found != nullptr && found != &*leaf)
+            return ::testing::AssertionFailure()
+                   << "the leaf index finds another leaf at " << leaf->origin();
+    }
+    return ::testing::AssertionSuccess();
+}
 
 /// Draws coordinates from dense clusters, isolated far-apart points and recently used
 /// coordinates, all inside the domain. Unbounded domains get clusters at the +-2^31 corners.
@@ -794,6 +833,9 @@ public:
 
     const SparseVolumeModel<ValueT>& model() const { return mModel; }
     Index64 opCount() const { return mOpCount; }
+    /// How often the leaf index was built, and how many operations ran with a current one.
+    Index64 leafIndexBuilds() const { return mLeafIndexBuilds; }
+    Index64 opsWithLeafIndex() const { return mOpsWithLeafIndex; }
 
     /// Runs every batch, then the final whole-tree checks.
     ::testing::AssertionResult run() {
@@ -832,6 +874,15 @@ public:
     /// Performs one random operation on both and checks what it touched.
     ::testing::AssertionResult step() {
         ++mOpCount;
+        if (mOptions.leafIndexRate > 0 &&
+            std::uniform_real_distribution<double>(0, 1)(mRng) < mOptions.leafIndexRate) {
+            mTree.buildLeafIndex();
+            ++mLeafIndexBuilds;
+            if (!mTree.hasLeafIndex())
+                return fail("buildLeafIndex", Coord()) << "no current index after the build";
+        }
+        if (mTree.hasLeafIndex())
+            ++mOpsWithLeafIndex;
         if (std::uniform_real_distribution<double>(0, 1)(mRng) < mOptions.pruneOrClearRate) {
             return pruneOrClear();
         }
@@ -871,6 +922,8 @@ public:
     /// Compares everything: the active set through the ValueOn iterator, the leaves, and the
     /// stored values through the tree and both accessors (all of them when `full`).
     ::testing::AssertionResult verify(bool full) {
+        if (auto r = checkLeafIndex(mTree); !r)
+            return r;
         if (auto r = compareActiveValues(mTree, mModel, mShape); !r)
             return r;
         if (auto r = compareLeaves(mTree, mShape); !r)
@@ -1208,6 +1261,8 @@ private:
     SparseVolumeModel<ValueT> mModel;
     std::vector<ValueT> mPalette;
     Index64 mOpCount = 0;
+    Index64 mLeafIndexBuilds = 0;
+    Index64 mOpsWithLeafIndex = 0;
 };
 
 }  // namespace vdb::test

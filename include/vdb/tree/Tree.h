@@ -18,6 +18,7 @@
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/tree/InternalNode.h>
+#include <vdb/tree/LeafIndex.h>
 #include <vdb/tree/LeafNode.h>
 #include <vdb/tree/NodeEdit.h>
 #include <vdb/tree/NodeTraits.h>
@@ -52,6 +53,11 @@ class TreeNodeIterator;
 /// Structural changes that free nodes (prune, clear, eraseValue, fill over children) advance
 /// an epoch counter; every accessor of the tree compares it on each call and drops its cache
 /// when it changed, so an accessor never follows a freed node, and readers never contend.
+///
+/// A tree can hold a leaf index (buildLeafIndex(): a hash table from leaf origin to leaf), with
+/// which top-down reads and accessor misses reach a leaf in one probe instead of a walk through
+/// every level. It is built on demand, not kept up to date by edits: it serves reads until the
+/// epoch next advances, and leaves added after it was built are found by the walk.
 ///
 /// Threads: concurrent const calls (and concurrent const accessors) are safe. Mutations need
 /// exclusive access to the tree; threaded tools write disjoint leaves through LeafManager.
@@ -96,6 +102,7 @@ public:
         : mTop(std::exchange(other.mTop, makeTop(other.mBackground))),
           mBackground(other.mBackground) {
         other.clearAllAccessors();
+        other.mLeafIndex.reset();
     }
     Tree& operator=(Tree&& other) {
         if (this != &other) {
@@ -103,6 +110,8 @@ public:
             mBackground = other.mBackground;
             clearAllAccessors();
             other.clearAllAccessors();
+            mLeafIndex.reset();
+            other.mLeafIndex.reset();
         }
         return *this;
     }
@@ -155,6 +164,12 @@ public:
     AccessResult<OpT, LeafNodeType, ArgsT...> get(const Coord& ijk, ArgsT&&... args) const {
         if (!inDomain(ijk))
             return OpT::tile(mBackground, false, args...);
+        if constexpr (STOP_LEVEL<OpT> == 0) {
+            if (const LeafIndexType* index = leafIndex()) {
+                if (const LeafNodeType* leaf = index->find(ijk))
+                    return OpT::leaf(*leaf, LeafNodeType::coordToOffset(ijk), args...);
+            }
+        }
         if constexpr (STOP_LEVEL<OpT> == TopT::LEVEL) {
             return applyAt<OpT>(*mTop, ijk, args...);
         } else {
@@ -238,8 +253,11 @@ public:
     Index64 activeTileCount() const { return mTop->onTileCount(); }
     Index32 leafCount() const { return mTop->leafCount(); }
     Index32 nonLeafCount() const { return mTop->nonLeafCount(); }
-    /// Bytes allocated by the tree: every node, value buffer and table. O(number of nodes).
-    Index64 memUsage() const { return sizeof(Tree) + mTop->memUsage(); }
+    /// Bytes allocated by the tree: every node, value buffer and table, and the leaf index if
+    /// one is held. O(number of nodes).
+    Index64 memUsage() const {
+        return sizeof(Tree) + mTop->memUsage() + (mLeafIndex ? mLeafIndex->memUsage() : 0);
+    }
     /// Sets `bbox` to the bounding box of the active voxels and tiles; false when there are none.
     bool evalActiveVoxelBoundingBox(CoordBBox& bbox) const {
         bbox.reset();
@@ -274,6 +292,32 @@ public:
     Range<LeafIter> leaves() { return {beginLeaf()}; }
     Range<LeafCIter> leaves() const { return {cbeginLeaf()}; }
 
+    // ---- Leaf index
+    using LeafIndexType = LeafIndex<LeafNodeType>;
+    /// Builds the leaf index from the leaves the tree has now (replacing any earlier one, and
+    /// so advancing the epoch: accessors drop their caches): O(leaves), 32 to 64 bytes per leaf.
+    /// From then on top-down reads and writes (getValue, isValueOn, probeValue, probeLeaf, get,
+    /// setValue and its siblings) and accessor misses find a leaf with one hash probe, until the
+    /// next change that frees or takes out nodes (the epoch: prune, clear, eraseValue, fill over
+    /// children, CSG, erosion, ...) retires it; rebuild it then. Leaves added meanwhile are not in
+    /// it and are found by the walk, so reads and writes are always right.
+    void buildLeafIndex();
+    /// Frees the leaf index.
+    void releaseLeafIndex() {
+        if (mLeafIndex) {
+            mLeafIndex.reset();
+            clearAllAccessors();
+        }
+    }
+    /// The leaf index when it is current (built since the epoch last advanced), else null.
+    const LeafIndexType* leafIndex() const {
+        const LeafIndexType* index = mLeafIndex.get();
+        return index != nullptr && mLeafIndexEpoch == mEpoch.load(std::memory_order_relaxed)
+                   ? index
+                   : nullptr;
+    }
+    bool hasLeafIndex() const { return leafIndex() != nullptr; }
+
     // ---- Accessor registry
     /// Makes every accessor of this tree drop its cache at its next call. Code that frees
     /// nodes through the node API (rather than through Tree methods) must call this.
@@ -305,6 +349,12 @@ private:
     template <typename UnchangedT, typename LeafOpT>
     void modify(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op) {
         checkDomain(ijk);
+        if (const LeafIndexType* index = leafIndex()) {
+            if (LeafNodeType* leaf = index->find(ijk)) {
+                op(*leaf, LeafNodeType::coordToOffset(ijk));
+                return;
+            }
+        }
         detail::NoCache none;
         mTop->modifyValue(ijk, unchanged, op, none);
     }
@@ -312,6 +362,8 @@ private:
     std::unique_ptr<TopT> mTop;
     ValueType mBackground;
     std::atomic<uint64_t> mEpoch{0};
+    std::unique_ptr<LeafIndexType> mLeafIndex;  // see buildLeafIndex()
+    uint64_t mLeafIndexEpoch = 0;               // the epoch it was built under
 };
 
 // ---- Implementation ---------------------------------------------------------------------------
@@ -322,8 +374,22 @@ inline Tree<TopT>& Tree<TopT>::operator=(const Tree& other) {
         mTop = std::make_unique<TopT>(*other.mTop);
         mBackground = other.mBackground;
         clearAllAccessors();
+        mLeafIndex.reset();
     }
     return *this;
+}
+
+template <TopNodeType TopT>
+inline void Tree<TopT>::buildLeafIndex() {
+    auto index = std::make_unique<LeafIndexType>();
+    index->reset(leafCount());
+    for (auto leaf = beginLeaf(); leaf; ++leaf)
+        index->insert(&*leaf);
+    // Accessors hold the index they saw at their last sync: retire them before the old index
+    // is freed.
+    clearAllAccessors();
+    mLeafIndex = std::move(index);
+    mLeafIndexEpoch = epoch();
 }
 
 template <TopNodeType TopT>

@@ -15,6 +15,7 @@
 #include <vdb/math/Coord.h>
 #include <vdb/tree/Tree.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <tuple>
@@ -25,9 +26,10 @@ namespace vdb::tree {
 /// Random access to one tree, caching the node path of the last access.
 ///
 /// Each level below the top keeps one node and its origin key. A lookup tries the cached leaf,
-/// then the cached internal nodes upwards, and only on a miss everywhere starts at the top,
-/// so spatially coherent access costs a key comparison and an array read. `TreeT` may be
-/// const: such an accessor only reads.
+/// then the cached node above it, then the tree's leaf index when it has a current one
+/// (Tree::buildLeafIndex(): one hash probe to any leaf), then the cached internal nodes
+/// upwards, and only on a miss everywhere starts at the top, so spatially coherent access
+/// costs a key comparison and an array read. `TreeT` may be const: such an accessor only reads.
 ///
 /// Never dangles: every call first compares the tree's epoch with the one the cache was
 /// filled under and drops the cache when they differ (the tree advances its epoch whenever
@@ -47,14 +49,17 @@ public:
     static constexpr Index TOP = TopT::LEVEL;  ///< levels 0 .. TOP-1 are cached
 
     explicit ValueAccessor(TreeT& tree)
-        : mEpochSource(&tree.epochCounter()), mTree(&tree), mEpoch(tree.epoch()) {
+        : mEpochSource(&tree.epochCounter()),
+          mTree(&tree),
+          mEpoch(tree.epoch()),
+          mLeafIndex(tree.leafIndex()) {
         clear();
     }
 
     TreeT& tree() const { return *mTree; }
     /// Drops every cached node.
     void clear() const {
-        mKeys.fill(Coord::max());  // never a node origin: the low bits of an origin are zero
+        mKeys.fill(Key{EMPTY_KEY, EMPTY_KEY, EMPTY_KEY});
         mNodes = {};
     }
     /// True when `ijk` lies in a cached node below the top.
@@ -79,8 +84,9 @@ public:
         if constexpr (STOP_LEVEL < OpT >> 0) {
             return getFrom<STOP_LEVEL<OpT>, OpT>(ijk, args...);
         } else {
-            if (hit<0>(ijk))
-                return OpT::leaf(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk), args...);
+            Index n;
+            if (leafHit(ijk, n)) [[likely]]
+                return OpT::leaf(*std::get<0>(mNodes), n, args...);
             return getMiss<OpT>(ijk[0], ijk[1], ijk[2], args...);
         }
     }
@@ -138,7 +144,8 @@ public:
     void insert(const Coord& ijk, NodeT* node) const {
         constexpr Index L = NodeT::LEVEL;
         std::get<L>(mNodes) = const_cast<CachedNode<L>*>(node);
-        mKeys[L] = ijk.alignedDown(NodeT::TOTAL);
+        const Coord origin = ijk.alignedDown(NodeT::TOTAL);
+        mKeys[L] = Key{origin[0], origin[1], origin[2]};
     }
 
 private:
@@ -160,18 +167,35 @@ private:
     [[gnu::noinline, gnu::cold]] void resync() const {
         clear();
         mEpoch = mTree->epoch();
+        mLeafIndex = mTree->leafIndex();
     }
-    // True when `ijk` lies in the cached node of level L: its coordinates with the bits below
-    // the node's size cleared equal the key. An empty slot's key has low bits set, so it
-    // matches no coordinate. One branch for the three components.
+    // A cached node's origin, each component sign-extended to 64 bits. EMPTY_KEY marks an
+    // empty level: it differs from every sign-extended 32-bit coordinate in bits 32 to 40, so
+    // no coordinate hits it.
+    using Key = std::array<int64_t, 3>;
+    static constexpr int64_t EMPTY_KEY = int64_t(1) << 40;
+
+    // The components of `ijk` xor the key of level L: all three are below the node's edge
+    // exactly when `ijk` lies in the cached node, and then they are its local coordinates.
     template <Index L>
-    bool hit(const Coord& ijk) const {
-        constexpr uint32_t high = ~((uint32_t(1) << NodeAtLevelT<TopT, L>::TOTAL) - 1);
-        const Coord& key = mKeys[L];
-        const uint32_t dx = (uint32_t(ijk[0]) & high) ^ uint32_t(key[0]);
-        const uint32_t dy = (uint32_t(ijk[1]) & high) ^ uint32_t(key[1]);
-        const uint32_t dz = (uint32_t(ijk[2]) & high) ^ uint32_t(key[2]);
-        return (dx | dy | dz) == 0;
+    [[gnu::always_inline]] std::array<uint64_t, 3> localBits(const Coord& ijk) const {
+        const Key& key = mKeys[L];
+        return {uint64_t(int64_t(ijk[0]) ^ key[0]), uint64_t(int64_t(ijk[1]) ^ key[1]),
+                uint64_t(int64_t(ijk[2]) ^ key[2])};
+    }
+    // True when `ijk` lies in the cached node of level L. One branch for the three components.
+    template <Index L>
+    [[gnu::always_inline]] bool hit(const Coord& ijk) const {
+        const auto d = localBits<L>(ijk);
+        return (d[0] | d[1] | d[2]) < (uint64_t(1) << NodeAtLevelT<TopT, L>::TOTAL);
+    }
+    // True when `ijk` lies in the cached leaf, whose value offset is then stored in `n`: the
+    // local coordinates that the key test leaves behind, so a hit costs no other arithmetic.
+    [[gnu::always_inline]] bool leafHit(const Coord& ijk, Index& n) const {
+        constexpr Index log2 = LeafNodeType::LOG2DIM;
+        const auto d = localBits<0>(ijk);
+        n = Index(d[2] + (d[1] << log2) + (d[0] << (2 * log2)));
+        return (d[0] | d[1] | d[2]) < LeafNodeType::DIM;
     }
     template <Index L>
     bool isCachedAt(const Coord& ijk) const {
@@ -182,12 +206,25 @@ private:
         }
     }
 
-    // The walk below the cached leaf: from the lowest cached node that holds `ijk`, else from
-    // the top. Out of line, so that the hit path above stays small where it is inlined; the
-    // coordinates come in three registers (a Coord argument was spilled to the stack on the
-    // hit path, before the branch).
+    // A miss of the cached leaf: the cached parent, then the tree's leaf index, then the walk
+    // from the lowest cached node that holds `ijk`, else from the top. Out of line, so that the
+    // hit path above stays small where it is inlined; the coordinates come in three registers
+    // (a Coord argument was spilled to the stack on the hit path, before the branch). The index
+    // probe has this small frame; the walk, with the larger frame of the whole descent, its own.
     template <typename OpT, typename... ArgsT>
-    [[gnu::noinline, gnu::flatten]] AccessResult<OpT, LeafNodeType, ArgsT...> getMiss(
+    [[gnu::noinline]] AccessResult<OpT, LeafNodeType, ArgsT...> getMiss(Int32 x, Int32 y, Int32 z,
+                                                                        ArgsT&... args) const {
+        const Coord ijk(x, y, z);
+        if (TOP == 1 || !hit<std::min<Index>(1, TOP - 1)>(ijk)) {
+            if (CachedNode<0>* leaf = indexedLeaf(ijk)) {
+                insert(ijk, leaf);
+                return OpT::leaf(*leaf, LeafNodeType::coordToOffset(ijk), args...);
+            }
+        }
+        return getWalk<OpT>(x, y, z, args...);
+    }
+    template <typename OpT, typename... ArgsT>
+    [[gnu::noinline, gnu::flatten]] AccessResult<OpT, LeafNodeType, ArgsT...> getWalk(
         Int32 x, Int32 y, Int32 z, ArgsT&... args) const {
         return getFrom<1, OpT>(Coord(x, y, z), args...);
     }
@@ -222,21 +259,38 @@ private:
         if constexpr (L == TOP) {
             TreeType::checkDomain(ijk);
             mTree->topNode().modifyValue(ijk, unchanged, op, *this);
+        } else if constexpr (L == 0) {
+            Index n;
+            if (!leafHit(ijk, n))
+                return modifyAt<1>(ijk, unchanged, op);
+            op(*std::get<0>(mNodes), n);
         } else {
-            if (!hit<L>(ijk))
+            if (!hit<L>(ijk)) {
+                if constexpr (L == 1) {
+                    if (LeafNodeType* leaf = indexedLeaf(ijk)) {
+                        insert(ijk, leaf);
+                        return op(*leaf, LeafNodeType::coordToOffset(ijk));
+                    }
+                }
                 return modifyAt<L + 1>(ijk, unchanged, op);
-            if constexpr (L == 0) {
-                op(*std::get<0>(mNodes), LeafNodeType::coordToOffset(ijk));
-            } else {
-                std::get<L>(mNodes)->modifyValue(ijk, unchanged, op, *this);
             }
+            std::get<L>(mNodes)->modifyValue(ijk, unchanged, op, *this);
         }
+    }
+
+    // The leaf holding `ijk` from the tree's leaf index, when it has a current one that lists
+    // that leaf; else null.
+    CachedNode<0>* indexedLeaf(const Coord& ijk) const {
+        return mLeafIndex != nullptr ? mLeafIndex->find(ijk) : nullptr;
     }
 
     const std::atomic<uint64_t>* mEpochSource;  // the tree's epoch counter
     TreeT* mTree;
     mutable uint64_t mEpoch;
-    mutable std::array<Coord, TOP> mKeys;
+    mutable std::array<Key, TOP> mKeys;
+    // The tree's leaf index when it was current at the last sync (building or releasing one
+    // advances the epoch).
+    mutable const typename TreeType::LeafIndexType* mLeafIndex;
     mutable Nodes mNodes;
 };
 
