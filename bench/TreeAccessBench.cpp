@@ -3,7 +3,8 @@
 // against OpenVDB 10 on the same Enright sphere band, in one process.
 //
 // Every benchmark is a template on a library tag: Vdb (the standard [Hash,5,4,3] tree),
-// VdbFixed6543 ([6,5,4,3], a fixed internal node on top), VdbMap543 ([Map,5,4,3]) and OpenVdb
+// VdbIndexed (the same with its leaf index built; lookups and memory only), VdbFixed6543
+// ([6,5,4,3], a fixed internal node on top), VdbMap543 ([Map,5,4,3]) and OpenVdb
 // (openvdb::FloatTree, whose root table is a std::map: [Map,5,4,3]), plus OpenVdbTwin, a
 // second OpenVDB tree whose ratio to the first is the noise floor. Each library builds its
 // tree from the same coordinate list in the same shuffled order. After the Google Benchmark
@@ -84,6 +85,20 @@ struct Vdb {
     using Accessor = vdb::tree::ValueAccessor<TreeT>;
 };
 
+// The standard tree with its leaf index built (Tree::buildLeafIndex()): top-down reads and
+// accessor misses reach a leaf in one hash probe. Only the lookups and the memory differ from
+// Vdb, so only those run.
+struct VdbIndexed : Vdb {
+    static constexpr const char* kName = "VdbIndexed";
+    static constexpr const char* kConfig = "[Hash,5,4,3] + leaf index";
+    static constexpr bool kLeafIndex = true;
+};
+
+template <typename Lib>
+constexpr bool kIndexed = requires {
+    Lib::kLeafIndex;
+};
+
 struct VdbFixed6543 {
     static constexpr const char* kName = "VdbFixed6543";
     static constexpr const char* kConfig = "[6,5,4,3]";
@@ -155,6 +170,8 @@ std::unique_ptr<typename Lib::TreeType> buildWithAccessor(const std::vector<Band
     typename Lib::template Accessor<TreeT> acc(*tree);
     for (const BandVoxel& v : band)
         acc.setValue(coordOf<Lib>(v), v.value);
+    if constexpr (kIndexed<Lib>)
+        tree->buildLeafIndex();
     return tree;
 }
 
@@ -485,6 +502,21 @@ void BM_LeafBytesStream(benchmark::State& state) {
     state.counters["bytes"] = double(values.size() * sizeof(float));
 }
 
+// Tree::buildLeafIndex() over the shared tree, per leaf (counted as "voxels" in the summary's
+// other-operations table, whose unit is per item).
+template <typename Lib>
+void BM_LeafIndexBuild(benchmark::State& state) {
+    const auto& shared = sharedTree<Lib>();
+    if (!shared.error.empty()) {
+        state.SkipWithError(shared.error.c_str());
+        return;
+    }
+    auto& tree = *shared.tree;
+    for (auto _ : state)
+        tree.buildLeafIndex();
+    setOps(state, int64_t(tree.leafCount()));
+}
+
 template <typename Lib, bool Cached>
 void insertRandom(benchmark::State& state) {
     using TreeT = typename Lib::TreeType;
@@ -528,6 +560,7 @@ void forEachLibrary(Fn&& fn) {
     fn(std::type_identity<OpenVdb>{});
     fn(std::type_identity<OpenVdbTwin>{});
     fn(std::type_identity<Vdb>{});
+    fn(std::type_identity<VdbIndexed>{});
     fn(std::type_identity<VdbFixed6543>{});
     fn(std::type_identity<VdbMap543>{});
 }
@@ -589,23 +622,28 @@ void registerBenchmarks() {
     add<Floor>("BM_RandomLookupFloor", BM_RandomLookupFloor)->Arg(kLookups)->Iterations(1);
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
-        add<Lib>("BM_ValueIteration", BM_ValueIteration<Lib>)->MinTime(0.2);
+        if constexpr (!kIndexed<Lib>)
+            add<Lib>("BM_ValueIteration", BM_ValueIteration<Lib>)->MinTime(0.2);
     });
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
-        add<Lib>("BM_LeafIteration", BM_LeafIteration<Lib>)->MinTime(0.2);
+        if constexpr (!kIndexed<Lib>)
+            add<Lib>("BM_LeafIteration", BM_LeafIteration<Lib>)->MinTime(0.2);
     });
     add<Floor>("BM_ArraySum", BM_ArraySum)->MinTime(0.2);
     add<Floor>("BM_LeafBytesSum", BM_LeafBytesSum)->MinTime(0.2);
     add<Floor>("BM_LeafBytesStream", BM_LeafBytesStream)->MinTime(0.2);
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
-        add<Lib>("BM_RandomInsert", BM_RandomInsert<Lib>)->Iterations(1);
+        if constexpr (!kIndexed<Lib>)
+            add<Lib>("BM_RandomInsert", BM_RandomInsert<Lib>)->Iterations(1);
     });
     forEachLibrary([](auto lib) {
         using Lib = typename decltype(lib)::type;
-        add<Lib>("BM_RandomInsertTopDown", BM_RandomInsertTopDown<Lib>)->Iterations(1);
+        if constexpr (!kIndexed<Lib>)
+            add<Lib>("BM_RandomInsertTopDown", BM_RandomInsertTopDown<Lib>)->Iterations(1);
     });
+    add<VdbIndexed>("BM_LeafIndexBuild", BM_LeafIndexBuild<VdbIndexed>)->MinTime(0.2);
 }
 
 // ---- Summary ----
@@ -758,9 +796,15 @@ public:
         const Figures cachedTableTwo = lookupFigures("BM_CachedLookup/" + tableTwo);
         const Figures topDownTableTwo = lookupFigures("BM_TopDownLookup/" + tableTwo);
         std::vector<MarkdownRow> lookupRows;
+        const size_t indexed =
+            size_t(std::find(libs.begin(), libs.end(), "VdbIndexed") - libs.begin());
+        vdb::bench::RatioRange indexedLookups;
         const auto addLookup = [&](const std::string& label, const Figures& f) {
-            if (has(f))
-                lookupRows.push_back(row(label, f, 2, true, &lookups, &noise));
+            if (!has(f))
+                return;
+            lookupRows.push_back(row(label, f, 2, true, &lookups, &noise));
+            if (indexed < f.size() && std::isfinite(f[indexed] / f[0]))
+                indexedLookups.add(f[indexed] / f[0]);
         };
         addLookup("cached, Table II (`/" + tableTwo + "`)", cachedTableTwo);
         addLookup("top-down, Table II (`/" + tableTwo + "`)", topDownTableTwo);
@@ -789,6 +833,8 @@ public:
         addTimed("sequential, leaves + value mask", "BM_LeafIteration", sequential);
         addTimed("random insertion, accessor", "BM_RandomInsert", insertion);
         addTimed("random insertion, top-down", "BM_RandomInsertTopDown", insertion);
+        if (const Figures f = figures(timesOf("BM_LeafIndexBuild"), nsPerOp); has(f))
+            otherRows.push_back(row("`buildLeafIndex()`, per leaf", f, 2, false, nullptr, nullptr));
         // Memory comes from the single run of BM_MemUsage.
         const ByLib* memoryRun = nullptr;
         if (const auto run = mResults.find("run"); run != mResults.end())
@@ -882,8 +928,9 @@ public:
         // The overview names only what ran (a --benchmark_filter run leaves some out).
         std::string ranges;
         for (const auto& [name, range] :
-             {std::pair{"lookups", &lookups}, std::pair{"sequential", &sequential},
-              std::pair{"insertion", &insertion}, std::pair{"memory", &memory}})
+             {std::pair{"lookups", &lookups}, std::pair{"lookups with leaf index", &indexedLookups},
+              std::pair{"sequential", &sequential}, std::pair{"insertion", &insertion},
+              std::pair{"memory", &memory}})
             if (!range->empty())
                 ranges += (ranges.empty() ? "" : ", ") + range->status(name);
         if (!ranges.empty())
@@ -926,10 +973,12 @@ private:
             const double base = nsOf(floor, Floor::kName);
             const double theirs = nsOf(lookup, OpenVdb::kName);
             const double ours = nsOf(lookup, Vdb::kName);
+            const double indexed = nsOf(lookup, VdbIndexed::kName);
             if (!std::isfinite(base) || !std::isfinite(theirs) || !std::isfinite(ours))
                 continue;
             rows.push_back({label, vdb::bench::fmt(base, 2), vdb::bench::fmt(base / theirs, 2),
-                            vdb::bench::fmt(ours / theirs, 2)});
+                            vdb::bench::fmt(ours / theirs, 2),
+                            vdb::bench::fmt(indexed / theirs, 2)});
         }
         if (rows.empty())
             return;
@@ -939,7 +988,8 @@ private:
             "same way and the value at their leaf offset in one leaf's values; random: each "
             "voxel's value read from one array of every leaf value at an index computed "
             "beforehand). Floor / OpenVdb is the lowest ratio any library could reach.");
-        md.table({"Lookup", "floor ns", "floor / OpenVdb", "Vdb / OpenVdb"}, rows);
+        md.table({"Lookup", "floor ns", "floor / OpenVdb", "Vdb / OpenVdb", "VdbIndexed / OpenVdb"},
+                 rows);
     }
 
     static constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();

@@ -207,26 +207,22 @@ private:
     }
 
     // A miss of the cached leaf: the cached parent, then the tree's leaf index, then the walk
-    // from the lowest cached node that holds `ijk`, else from the top. Out of line, so that the
-    // hit path above stays small where it is inlined; the coordinates come in three registers
-    // (a Coord argument was spilled to the stack on the hit path, before the branch). The index
-    // probe has this small frame; the walk, with the larger frame of the whole descent, its own.
+    // from the lowest cached node above that holds `ijk`, else from the top. Out of line, so
+    // that the hit path above stays small where it is inlined; the coordinates come in three
+    // registers (a Coord argument was spilled to the stack on the hit path, before the branch).
     template <typename OpT, typename... ArgsT>
-    [[gnu::noinline]] AccessResult<OpT, LeafNodeType, ArgsT...> getMiss(Int32 x, Int32 y, Int32 z,
-                                                                        ArgsT&... args) const {
-        const Coord ijk(x, y, z);
-        if (TOP == 1 || !hit<std::min<Index>(1, TOP - 1)>(ijk)) {
-            if (CachedNode<0>* leaf = indexedLeaf(ijk)) {
-                insert(ijk, leaf);
-                return OpT::leaf(*leaf, LeafNodeType::coordToOffset(ijk), args...);
-            }
-        }
-        return getWalk<OpT>(x, y, z, args...);
-    }
-    template <typename OpT, typename... ArgsT>
-    [[gnu::noinline, gnu::flatten]] AccessResult<OpT, LeafNodeType, ArgsT...> getWalk(
+    [[gnu::noinline, gnu::flatten]] AccessResult<OpT, LeafNodeType, ArgsT...> getMiss(
         Int32 x, Int32 y, Int32 z, ArgsT&... args) const {
-        return getFrom<1, OpT>(Coord(x, y, z), args...);
+        const Coord ijk(x, y, z);
+        if constexpr (TOP > 1) {
+            if (hit<1>(ijk))
+                return std::get<1>(mNodes)->template getAndCache<OpT>(ijk, *this, args...);
+        }
+        if (CachedNode<0>* leaf = indexedLeaf(ijk)) {
+            insert(ijk, leaf);
+            return OpT::leaf(*leaf, LeafNodeType::coordToOffset(ijk), args...);
+        }
+        return getFrom<std::min<Index>(2, TOP), OpT>(ijk, args...);
     }
     template <Index L, typename OpT, typename... ArgsT>
     AccessResult<OpT, LeafNodeType, ArgsT...> getFrom(const Coord& ijk, ArgsT&... args) const {
