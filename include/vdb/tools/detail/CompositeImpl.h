@@ -235,8 +235,19 @@ private:
     /// Writes movedValue() of the values `in` with states `mask` to `out` (which may be `in`).
     template <typename MaskT>
     void moveValues(const ValueT* in, const MaskT& mask, ValueT* out) const {
-        for (Index k = 0; k < LeafT::NUM_VALUES; ++k)
-            out[k] = movedValue(in[k], mask.isOn(k));
+        if (mBackgroundA == mBackgroundB) {
+            // The values of a difference, negated; states do not matter.
+            for (Index k = 0; k < LeafT::NUM_VALUES; ++k)
+                out[k] = DIFFERENCE ? ValueT(-in[k]) : in[k];
+            return;
+        }
+        for (Index w = 0; w < MaskT::WORD_COUNT; ++w) {
+            const uint64_t on = mask.getWord(w);
+            for (Index i = 0; i < 64; ++i) {
+                const Index k = (w << 6) + i;
+                out[k] = movedValue(in[k], (on >> i) & 1u);
+            }
+        }
     }
 
     // ---- Branches moved from b to a (Steal)
