@@ -345,9 +345,9 @@ protected:
 struct DoubleTree543 : test::TreeConfig<DoubleTree, false, 5, 4, 3> {
     static constexpr const char* NAME = "DoubleTree543";
 };
-using Configs =
-    ::testing::Types<test::configs::HashTree543, test::configs::HashTree432,
-                     test::configs::FixedTree3333, test::configs::FixedTree6542, DoubleTree543>;
+using Configs = ::testing::Types<test::configs::HashTree543, test::configs::HashTree432,
+                                 test::configs::FixedTree3333, test::configs::FixedTree6542,
+                                 test::configs::FixedTree643, DoubleTree543>;
 TYPED_TEST_SUITE(Csg, Configs, test::ConfigName);
 
 TYPED_TEST(Csg, UnionIsVoxelwiseMinimumWithTheWinnersState) {
