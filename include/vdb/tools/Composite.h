@@ -14,10 +14,11 @@
 ///
 /// The in-place forms leave the result in `a` and `b` empty: b's branches are stolen, never
 /// copied. The Copy forms leave both inputs intact and return a new grid or tree equal to what
-/// the in-place form (with pruning) would leave in `a`. They copy only what the result keeps:
-/// a's branches that a tile of b decides (and, for an intersection, a's root entries where b
-/// has none) are never copied, nor b's branches that the merge drops, and a leaf present in
-/// both is copied from a once, then combined with b's. (OpenVDB's csg*Copy builds its result
+/// the in-place form (with pruning) would leave in `a`. They write only what the result keeps,
+/// once: a's branches that a tile of b decides (and, for an intersection, a's root entries
+/// where b has none) are never copied, nor b's branches that the merge drops; a leaf present
+/// in both is written in one pass from the two, a leaf moved from b in one pass from b's
+/// (with its background replaced or its values negated). (OpenVDB's csg*Copy builds its result
 /// another way, from the leaves and a signed flood fill, so its tiles and inactive values can
 /// differ from its in-place result; ours do not.) OpenVDB's optional pruneCancelledTiles argument
 /// is not offered; `threaded` is ours.
@@ -28,8 +29,9 @@
 ///
 /// Cost: one serial walk over the internal nodes where the trees overlap, then the overlapping
 /// leaves (and, for a difference, the negated moved leaves) in parallel, then
-/// pruneLevelSet(). The Copy forms first copy a's internal nodes in one serial walk, and every
-/// copied leaf in parallel. Results do not depend on the thread count.
+/// pruneLevelSet(). The Copy forms walk the root and the internal nodes above level 1
+/// serially, then build the level-1 nodes of the result in parallel, each with its leaves
+/// (in parallel again), then pruneLevelSet(). Results do not depend on the thread count.
 ///
 /// @code
 /// vdb::tools::csgUnion(*sphereA, *sphereB);                        // A = A u B, B emptied
@@ -230,9 +232,7 @@ template <typename TreeT>
 template <CsgKind Kind>
 std::unique_ptr<TreeT> CsgRunner<TreeT>::copyAs(const TreeT& a, const TreeT& b, bool threaded) {
     auto result = std::make_unique<TreeT>(a.background());
-    CsgMerge<TreeT, Kind, /*Steal=*/false> merge(*result, b);
-    merge.startFrom(a, threaded);
-    merge.run(threaded);
+    CsgMerge<TreeT, Kind, /*Steal=*/false>(*result, b).buildFrom(a, threaded);
     tools::pruneLevelSet(*result, threaded);
     return result;
 }

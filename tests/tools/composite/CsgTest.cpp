@@ -345,9 +345,9 @@ protected:
 struct DoubleTree543 : test::TreeConfig<DoubleTree, false, 5, 4, 3> {
     static constexpr const char* NAME = "DoubleTree543";
 };
-using Configs =
-    ::testing::Types<test::configs::HashTree543, test::configs::HashTree432,
-                     test::configs::FixedTree3333, test::configs::FixedTree6542, DoubleTree543>;
+using Configs = ::testing::Types<test::configs::HashTree543, test::configs::HashTree432,
+                                 test::configs::FixedTree3333, test::configs::FixedTree6542,
+                                 test::configs::FixedTree643, DoubleTree543>;
 TYPED_TEST_SUITE(Csg, Configs, test::ConfigName);
 
 TYPED_TEST(Csg, UnionIsVoxelwiseMinimumWithTheWinnersState) {
@@ -663,6 +663,68 @@ TEST(CsgBackground, MovedBranchesTakeTheBackgroundOfA) {
     for (Op op : {Op::Union, Op::Intersection, Op::Difference}) {
         EXPECT_TRUE(copyEqualsInPlace(op, a, b));
         EXPECT_TRUE(copyEqualsInPlace(op, b, a));
+    }
+}
+
+/// Every leaf of `x` has the same number of value buffers as the leaf of `y` at its origin,
+/// and the same values in the buffers after the first (which identical() compares).
+template <typename TreeT>
+::testing::AssertionResult sameExtraBuffers(const TreeT& x, const TreeT& y) {
+    if (x.leafCount() != y.leafCount())
+        return ::testing::AssertionFailure() << "leaf counts differ";
+    for (auto it = x.cbeginLeaf(); it; ++it) {
+        const auto* other = y.probeConstLeaf(it->origin());
+        if (!other || other->bufferCount() != it->bufferCount())
+            return ::testing::AssertionFailure() << "buffers of leaf " << it->origin() << " differ";
+        for (Index i = 1; i < it->bufferCount(); ++i) {
+            const auto bx = it->buffer(i), by = other->buffer(i);
+            if (std::memcmp(bx.data(), by.data(), bx.size_bytes()) != 0)
+                return ::testing::AssertionFailure()
+                       << "buffer " << i << " of leaf " << it->origin() << " differs";
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
+
+TEST(CsgTiles, CopiesBuildLeafSizedTilesAndExtraBuffersAsTheInPlaceFormsLeaveThem) {
+    // The Copy forms write every leaf and level-1 node of their result themselves: leaf-sized
+    // tiles (inside, active, zero and other values) over the other tree's band leaves and
+    // tiles, leaves with a second value buffer, and different backgrounds (moved values are
+    // fixed in the first buffer only) must come out as the in-place forms leave them.
+    FloatTree a(3.0f), b(2.0f);
+    addSpheres(a, {{0.0, 0.0, 0.0, 20.0}}, 6);
+    addSpheres(b, {{14.0, 3.0, -2.0, 15.0}}, 6);
+    struct Tile {
+        FloatTree* tree;
+        Coord origin;
+        float value;
+        bool active;
+    };
+    const Tile tiles[] = {
+        {&a, Coord(16, 0, 0), -3.0f, false},   {&a, Coord(16, 8, 0), -3.0f, true},
+        {&a, Coord(24, 0, 0), 0.0f, false},    {&a, Coord(24, 8, 0), 1.0f, true},
+        {&a, Coord(-24, -8, 0), -1.5f, false}, {&b, Coord(0, 16, 0), -2.0f, false},
+        {&b, Coord(8, 16, 0), -2.0f, true},    {&b, Coord(-16, 0, 0), 0.0f, false},
+        {&b, Coord(-16, 8, 0), 2.0f, false},   {&b, Coord(0, -24, 0), -0.5f, true},
+        {&b, Coord(24, 0, 0), -2.0f, false}};
+    for (const Tile& t : tiles) {
+        t.tree->fill(CoordBBox::createCube(t.origin, 8), t.value, t.active);
+        ASSERT_EQ(t.tree->probeConstLeaf(t.origin), nullptr) << t.origin;
+    }
+    for (auto [tree, value] : {std::pair{&a, 7.0f}, std::pair{&b, 9.0f}}) {
+        for (auto it = tree->beginLeaf(); it; ++it) {
+            it->setBufferCount(2);
+            const auto second = it->buffer(1);
+            std::fill(second.begin(), second.end(), value);
+        }
+    }
+    for (Op op : {Op::Union, Op::Intersection, Op::Difference}) {
+        for (const auto& [x, y] : {std::pair{&a, &b}, std::pair{&b, &a}}) {
+            EXPECT_TRUE(copyEqualsInPlace(op, *x, *y));
+            FloatTree inPlace(*x), emptied(*y);
+            applyInPlace(op, inPlace, emptied);
+            EXPECT_TRUE(sameExtraBuffers(*applyCopy(op, *x, *y), inPlace)) << opName(op);
+        }
     }
 }
 

@@ -10,9 +10,13 @@
 #include <vdb/Types.h>
 #include <vdb/math/Coord.h>
 #include <vdb/math/Math.h>
+#include <vdb/tree/LeafNode.h>
+#include <vdb/tree/NodeTraits.h>
 #include <vdb/tree/Tree.h>
+#include <vdb/util/Assert.h>
 #include <vdb/util/Parallel.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -53,18 +57,22 @@ void validateLevelSetBackground(const ValueT& background, const char* operation,
 ///   or max(a, -b) (difference), with the active state of the input it came from; ties keep a.
 /// - At the root, tiles are normalised to +-background of `a` and background tiles dropped.
 ///
-/// Branches of b are stolen when `Steal` (b is then cleared by the caller) and copied
-/// otherwise. Transferred branches get b's background replaced by a's in their inactive values
-/// (within OpenVDB's tolerance), then are negated for a difference.
+/// Transferred branches get b's background replaced by a's in their inactive values (within
+/// OpenVDB's tolerance), then are negated for a difference.
 ///
-/// Without `Steal`, the merge can also build `a` itself from a third tree (startFrom(), for the
-/// Copy forms): a copy of that tree's nodes except the branches b's tiles will decide, which
-/// become the tile the merge leaves there, and, for an intersection, the root entries b lacks.
-/// Nothing of either input is copied that the merge would then drop.
+/// With `Steal` (the in-place forms), run() merges b into a: b's branches are stolen (b is then
+/// cleared by the caller), the overlapping leaves are combined in a's leaves and the stolen
+/// leaves fixed up in place. Without `Steal` (the Copy forms), buildFrom() makes `a`, an empty
+/// tree, the result of merging b into a third tree, reading both inputs and writing each node
+/// of the result once: a's nodes that b's tiles decide, b's branches the merge drops and, for an
+/// intersection, a's root entries b lacks are never copied; a leaf present in both is written
+/// in one pass from the two, a transferred leaf in one pass from b's.
 ///
-/// Threads: the walks over internal nodes are serial; leaf pairs, the leaves of transferred
-/// branches and the leaves of copies are processed in parallel, each by one task, so the
-/// result does not depend on the thread count.
+/// Threads: the walks over the root and the internal nodes above level 1 are serial. The
+/// voxel work runs in parallel: with Steal over the leaf pairs and the transferred leaves;
+/// without, over the level-1 nodes of the result, each built by one task that builds its
+/// leaves in parallel again. Each node and leaf is written by one task, so the result does not
+/// depend on the thread count.
 template <typename TreeT, CsgKind Kind, bool Steal>
 class CsgMerge {
 public:
@@ -86,36 +94,53 @@ public:
           mBackgroundB(b.background()),
           mMovedNeedFix(DIFFERENCE || !(a.background() == b.background())) {}
 
-    /// Makes `a`, which must be empty and have `start`'s background, the copy of `start` that
-    /// merging b into it gives the same result as merging b into `start` itself.
-    void startFrom(const TreeT& start, bool threaded) requires(!Steal) {
+    /// Merges b into a.
+    void run(bool threaded) requires(Steal) {
         if constexpr (TreeT::BOUNDED) {
-            copyNodeInto(mA.topNode(), start.topNode(), &mB.topNode(), /*moved=*/false);
-        } else {
-            copyStartRoot(mA.root(), start.root(), mB.root());
-        }
-        linkLeafCopies(threaded);  // the merge walk looks at these leaves
-        mStartCombined = true;
-    }
-
-    void run(bool threaded) {
-        if constexpr (TreeT::BOUNDED) {
-            mergeNode(mA.topNode(), static_cast<OtherTopT&>(mB.topNode()));
+            mergeNode(mA.topNode(), mB.topNode());
         } else if constexpr (DIFFERENCE) {
-            mergeRootDifference(mA.root(), static_cast<OtherTopT&>(mB.root()));
+            mergeRootDifference(mA.root(), mB.root());
         } else {
-            mergeRoot(mA.root(), static_cast<OtherTopT&>(mB.root()));
+            mergeRoot(mA.root(), mB.root());
         }
-        // The voxel work: copies of b's leaves, overlapping leaves, then the leaves of
-        // transferred branches.
-        linkLeafCopies(threaded);
+        // The voxel work: overlapping leaves, then the leaves of transferred branches.
         util::parallelFor(
             mLeafPairs.size(),
-            [this](size_t i) { combineLeaves(*mLeafPairs[i].first, *mLeafPairs[i].second); },
+            [this](size_t i) {
+                LeafT& leaf = *mLeafPairs[i].first;
+                const auto values = leaf.buffer(0);
+                combineValues(values.data(), leaf.getValueMask(), *mLeafPairs[i].second,
+                              values.data(), leaf.getValueMask());
+            },
             threaded, 4);
         util::parallelFor(
-            mMovedLeaves.size(), [this](size_t i) { fixMovedLeaf(*mMovedLeaves[i]); }, threaded,
-            16);
+            mMovedLeaves.size(),
+            [this](size_t i) {
+                LeafT& leaf = *mMovedLeaves[i];
+                const auto values = leaf.buffer(0);
+                moveValues(values.data(), leaf.getValueMask(), values.data());
+            },
+            threaded, 16);
+        mA.clearAllAccessors();
+    }
+
+    /// Makes `a`, which must be empty and have `start`'s background, what merging b into
+    /// `start` gives, without changing `start` or b.
+    void buildFrom(const TreeT& start, bool threaded) requires(!Steal) {
+        mThreaded = threaded;
+        if constexpr (TreeT::BOUNDED) {
+            buildNode(mA.topNode(), start.topNode(), &mB.topNode(), /*moved=*/false);
+        } else {
+            // The children of the root are merged in full as they are built; the root's own
+            // entries follow the merge's root rules.
+            buildStartRoot(mA.root(), start.root(), mB.root());
+            if constexpr (DIFFERENCE) {
+                mergeRootDifference(mA.root(), mB.root());
+            } else {
+                mergeRoot(mA.root(), mB.root());
+            }
+        }
+        buildLevelOneNodes();
         mA.clearAllAccessors();
     }
 
@@ -142,7 +167,90 @@ private:
         return v;
     }
 
-    // ---- Branches moved from b to a
+    // ---- Entries of internal nodes
+
+    /// What the merge makes of one entry of two internal nodes at the same place.
+    enum class EntryRule {
+        KeepA,  ///< a's tile or child stays
+        Tile,   ///< a tile of b decides: decidedValue(), with the state of b's tile
+        MoveB,  ///< b's child moves into a's tile
+        Merge,  ///< both children are merged
+    };
+
+    /// The rule for an entry where a holds a child (`aChild`) or the tile `aTile`, and b a
+    /// child or the tile `bTile` (a tile value is ignored where there is a child).
+    EntryRule entryRule(bool aChild, const ValueT& aTile, bool bChild, const ValueT& bTile) const {
+        if constexpr (DIFFERENCE) {
+            // b's inside tiles make a outside over a's inside tiles and children; b's children
+            // move negated into a's inside tiles.
+            const bool aInside = !aChild && aTile < ValueT(0);
+            if (!bChild)
+                return bTile < ValueT(0) && (aChild || aInside) ? EntryRule::Tile
+                                                                : EntryRule::KeepA;
+            return aInside ? EntryRule::MoveB : aChild ? EntryRule::Merge : EntryRule::KeepA;
+        } else {
+            // A winning tile of a keeps its place; b's winning tiles replace anything else of
+            // a; b's children move into a's losing tiles (zero tiles are neither).
+            if (!aChild && isWinning(aTile))
+                return EntryRule::KeepA;
+            if (!bChild)
+                return isWinning(bTile) ? EntryRule::Tile : EntryRule::KeepA;
+            return aChild            ? EntryRule::Merge
+                   : isLosing(aTile) ? EntryRule::MoveB
+                                     : EntryRule::KeepA;
+        }
+    }
+    template <typename ANodeT, typename BNodeT>
+    EntryRule entryRule(const ANodeT& a, const BNodeT& b, Index n) const {
+        const bool aChild = a.isChild(n), bChild = b.isChild(n);
+        return entryRule(aChild, aChild ? ValueT{} : a.getTileValue(n), bChild,
+                         bChild ? ValueT{} : b.getTileValue(n));
+    }
+    /// The value of an EntryRule::Tile.
+    ValueT decidedValue() const { return DIFFERENCE ? mBackgroundA : winningBackground(); }
+
+    // ---- Leaves
+
+    /// Combines the values `av` and states `am` of a's leaf with b's leaf `b` into `out` and
+    /// `outMask` (which may be `av` and `am`): each voxel takes the winning value and that
+    /// input's active state; the states are merged a 64-bit mask word at a time.
+    template <typename MaskT>
+    static void combineValues(const ValueT* av, const MaskT& am, const LeafT& b, ValueT* out,
+                              MaskT& outMask) {
+        const auto bv = b.buffer(0);
+        const auto& bm = b.getValueMask();
+        for (Index w = 0; w < MaskT::WORD_COUNT; ++w) {
+            uint64_t take = 0;
+            for (Index i = 0; i < 64; ++i) {
+                const Index k = (w << 6) + i;
+                const ValueT other = DIFFERENCE ? ValueT(-bv[k]) : bv[k];
+                const bool fromB = UNION ? other < av[k] : av[k] < other;
+                take |= uint64_t(fromB) << i;
+                out[k] = fromB ? other : av[k];
+            }
+            outMask.getWord(w) = (am.getWord(w) & ~take) | (bm.getWord(w) & take);
+        }
+    }
+
+    /// Writes movedValue() of the values `in` with states `mask` to `out` (which may be `in`).
+    template <typename MaskT>
+    void moveValues(const ValueT* in, const MaskT& mask, ValueT* out) const {
+        if (mBackgroundA == mBackgroundB) {
+            // The values of a difference, negated; states do not matter.
+            for (Index k = 0; k < LeafT::NUM_VALUES; ++k)
+                out[k] = DIFFERENCE ? ValueT(-in[k]) : in[k];
+            return;
+        }
+        for (Index w = 0; w < MaskT::WORD_COUNT; ++w) {
+            const uint64_t on = mask.getWord(w);
+            for (Index i = 0; i < 64; ++i) {
+                const Index k = (w << 6) + i;
+                out[k] = movedValue(in[k], (on >> i) & 1u);
+            }
+        }
+    }
+
+    // ---- Branches moved from b to a (Steal)
 
     template <typename NodeT>
     void prepareMoved(NodeT& node) {
@@ -158,35 +266,19 @@ private:
         }
     }
 
-    void fixMovedLeaf(LeafT& leaf) const {
-        auto values = leaf.buffer(0);
-        const auto& mask = leaf.getValueMask();
-        for (Index k = 0; k < LeafT::NUM_VALUES; ++k)
-            values[k] = movedValue(values[k], mask.isOn(k));
-    }
-
-    /// Moves the child at `n` of b into entry `n` of a: stolen, or copied (a leaf is copied
-    /// after the walk, by linkLeafCopies(); entry `n` keeps its tile until then and the walk
-    /// does not look at it again).
-    template <typename NodeT, typename BNodeT>
-    void moveChild(NodeT& a, Index n, BNodeT& b) {
-        if constexpr (Steal) {
-            std::unique_ptr<typename NodeT::ChildNodeType> child(
-                b.stealChild(n, mBackgroundB, false));
-            prepareMoved(*child);
-            a.setChild(n, child.release());
-        } else if constexpr (NodeT::LEVEL == 1) {
-            mLeafCopies.push_back({&a, n, b.getChild(n), /*moved=*/true});
-        } else {
-            a.setChild(n, copyBranch(*b.getChild(n), /*moved=*/true).release());
-        }
+    /// Steals the child at `n` of b into entry `n` of a.
+    template <typename NodeT>
+    void moveChild(NodeT& a, Index n, NodeT& b) {
+        std::unique_ptr<typename NodeT::ChildNodeType> child(b.stealChild(n, mBackgroundB, false));
+        prepareMoved(*child);
+        a.setChild(n, child.release());
     }
 
     static OtherTopChildT& otherChild(OtherTopT& bRoot, const Coord& key) {
         return *bRoot.findEntry(key)->child;
     }
 
-    /// Moves b's root child at `key` into a (stolen or copied, as moveChild()).
+    /// Moves b's root child at `key` into a: stolen, or built as a moved branch.
     void moveRootChild(TopT& a, OtherTopT& bRoot, const Coord& key) {
         using ChildT = typename TopT::ChildNodeType;
         std::unique_ptr<ChildT> child;
@@ -194,22 +286,26 @@ private:
             child.reset(bRoot.stealChild(key));
             prepareMoved(*child);
         } else {
-            child = copyBranch(otherChild(bRoot, key), /*moved=*/true);
+            child = buildBranch(otherChild(bRoot, key), static_cast<const ChildT*>(nullptr),
+                                /*moved=*/true);
         }
         a.setChild(child.get());
         child.release();
     }
 
-    // ---- Copies (no Steal): internal nodes at once, leaves later in parallel
+    // ---- Building the result (no Steal)
 
-    /// A leaf to copy into entry `n` of `parent`; `moved` copies are prepared as moved values,
-    /// others combined with b's leaf `other` where there is one.
-    struct LeafCopy {
-        tree::NodeAtLevelT<TopT, 1>* parent;
+    /// The level-1 nodes of the result are built by tasks, where their parents are internal
+    /// nodes: each task builds one with its leaves, and the parents take them afterwards.
+    using LevelOneT = tree::NodeAtLevelT<TopT, 1>;
+    using LevelTwoT = tree::NodeAtLevelT<TopT, (TopT::LEVEL >= 2 ? 2 : 1)>;
+    static constexpr bool LEVEL_ONE_JOBS = TopT::LEVEL >= 2 && !tree::IS_ROOT_NODE<LevelTwoT>;
+    struct LevelOneJob {
+        LevelTwoT* parent;
         Index n;
-        const LeafT* source;
+        const LevelOneT* source;
+        const LevelOneT* other;  // b's node at the same place, merged with `source`, or null
         bool moved;
-        const LeafT* other = nullptr;
     };
 
     /// Copies the tiles of internal node `src` into `dst` (a new node of the same origin),
@@ -242,60 +338,110 @@ private:
         dst.updateTileStates([&](Index w, uint64_t) { return src.getValueMask().getWord(w); });
     }
 
-    /// A copy of the branch `src`, as moved values when `moved`; its leaves are copied by
-    /// linkLeafCopies() (unless `src` is itself a leaf).
+    /// The leaf of the result built from `src`: its copy, its moved values when `moved`, or
+    /// its values combined with those of b's leaf `other`, written in one pass.
+    std::unique_ptr<LeafT> buildLeaf(const LeafT& src, const LeafT* other, bool moved) const {
+        const bool fix = moved && mMovedNeedFix;
+        if ((!other && !fix) || !src.isAllocated())
+            return std::make_unique<LeafT>(src);
+        auto leaf = std::make_unique<LeafT>(tree::PartialCreate{}, src.origin());
+        leaf->setBufferCount(src.bufferCount());  // values not yet set
+        for (Index i = 1; i < src.bufferCount(); ++i)
+            std::copy_n(src.buffer(i).data(), LeafT::NUM_VALUES, leaf->buffer(i).data());
+        const ValueT* in = src.buffer(0).data();
+        ValueT* out = leaf->buffer(0).data();
+        if (other) {
+            combineValues(in, src.getValueMask(), *other, out, leaf->getValueMask());
+        } else {
+            moveValues(in, src.getValueMask(), out);
+            leaf->setValueMask(src.getValueMask());
+        }
+        return leaf;
+    }
+
+    /// The branch of the result built from `src` (a's, or b's when `moved`), merged with b's
+    /// node `other` at the same place where there is one.
     template <typename NodeT>
-    std::unique_ptr<NodeT> copyBranch(const NodeT& src, bool moved) {
+    std::unique_ptr<NodeT> buildBranch(const NodeT& src, const NodeT* other, bool moved) {
         if constexpr (NodeT::LEVEL == 0) {
-            auto leaf = std::make_unique<NodeT>(src);
-            if (moved && mMovedNeedFix)
-                fixMovedLeaf(*leaf);
-            return leaf;
+            return buildLeaf(src, other, moved);
         } else {
             auto node = std::make_unique<NodeT>(src.origin());
-            copyNodeInto(*node, src, static_cast<const NodeT*>(nullptr), moved);
+            buildNode(*node, src, other, moved);
             return node;
         }
     }
 
-    /// Whether a tile of b of value `bTile` decides the whole region over a child of a, and
-    /// the value the merge then leaves there (with b's tile's state).
-    static bool decides(const ValueT& bTile) {
-        if constexpr (DIFFERENCE) {
-            return bTile < ValueT(0);
-        } else {
-            return UNION ? bTile < ValueT(0) : bTile > ValueT(0);
-        }
-    }
-    ValueT decidedValue() const { return DIFFERENCE ? mBackgroundA : winningBackground(); }
-
-    /// Copies internal node `src` into `dst` (a new node of the same origin), as moved values
-    /// when `moved`, except the children that a tile of `b` (the node of b at the same place,
-    /// or null) decides.
+    /// Makes `dst`, a new node of src's origin, the merge of internal node `src` (a's, or b's
+    /// when `moved`) with b's node `other` at the same place, or a copy of `src` when `other`
+    /// is null. Level-1 children are left to buildLevelOneNodes(); leaves are built in
+    /// parallel (also inside the tasks of buildLevelOneNodes()).
     template <typename NodeT>
-    void copyNodeInto(NodeT& dst, const NodeT& src, const NodeT* b, bool moved) {
+    void buildNode(NodeT& dst, const NodeT& src, const NodeT* other, bool moved) {
         using ChildT = typename NodeT::ChildNodeType;
+        VDB_ASSERT(!(other && moved));
         copyTiles(dst, src, moved);
-        for (Index n : src.getChildMask().onBits()) {
-            const ChildT* bChild = b ? b->getChild(n) : nullptr;
-            if (b && !bChild && decides(b->getTileValue(n))) {
-                dst.setTile(n, decidedValue(), b->isTileOn(n));
-            } else if constexpr (NodeT::LEVEL == 1) {
-                // A leaf of b here is combined with the copy at once (the merge walk would
-                // pair the two); see mergeChildren().
-                mLeafCopies.push_back({&dst, n, src.getChild(n), moved, bChild});
-            } else {
-                auto child = std::make_unique<ChildT>(src.getChild(n)->origin());
-                copyNodeInto(*child, *src.getChild(n), bChild, moved);
-                dst.setChild(n, child.release());
+        // The children of the result: (entry, source, b's child to merge with, moved).
+        struct Child {
+            Index n;
+            const ChildT* source;
+            const ChildT* other;
+            bool moved;
+        };
+        std::vector<Child> children;
+        if (!other) {
+            for (Index n : src.getChildMask().onBits())
+                children.push_back({n, src.getChild(n), nullptr, moved});
+        } else {
+            for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
+                switch (entryRule(src, *other, n)) {
+                    case EntryRule::KeepA:
+                        if (src.isChild(n))
+                            children.push_back({n, src.getChild(n), nullptr, false});
+                        break;
+                    case EntryRule::Tile:
+                        dst.setTile(n, decidedValue(), other->isTileOn(n));
+                        break;
+                    case EntryRule::MoveB:
+                        children.push_back({n, other->getChild(n), nullptr, true});
+                        break;
+                    case EntryRule::Merge:
+                        children.push_back({n, src.getChild(n), other->getChild(n), false});
+                        break;
+                }
             }
         }
+        if constexpr (ChildT::LEVEL == 1 && LEVEL_ONE_JOBS) {
+            for (const Child& c : children)
+                mLevelOneJobs.push_back({&dst, c.n, c.source, c.other, c.moved});
+        } else {
+            std::vector<std::unique_ptr<ChildT>> built(children.size());
+            util::parallelForRange(
+                children.size(),
+                [&](size_t begin, size_t end) {
+                    for (size_t i = begin; i < end; ++i) {
+                        if constexpr (ChildT::LEVEL == 0) {
+                            // The next leaf's values load while this one is written.
+                            if (i + 1 < end) {
+                                children[i + 1].source->prefetchValues();
+                                if (children[i + 1].other)
+                                    children[i + 1].other->prefetchValues();
+                            }
+                        }
+                        const Child& c = children[i];
+                        built[i] = buildBranch(*c.source, c.other, c.moved);
+                    }
+                },
+                ChildT::LEVEL == 0 && mThreaded, 16);
+            for (size_t i = 0; i < children.size(); ++i)
+                dst.setChild(children[i].n, built[i].release());
+        }
     }
 
-    /// copyNodeInto() for the root of the start tree: an intersection also drops the entries b
-    /// lacks.
-    void copyStartRoot(TopT& dst, const TopT& start, const TopT& b) {
-        using ChildT = typename TopT::ChildNodeType;
+    /// buildNode() for the root of the start tree, whose children are merged with b's root
+    /// children at their keys in full; an intersection drops the entries b lacks. The root
+    /// entries themselves are left to mergeRoot() / mergeRootDifference().
+    void buildStartRoot(TopT& dst, const TopT& start, const TopT& b) {
         for (auto c = start.cbegin(); start.valid(c); start.next(c)) {
             const Coord key = start.key(c);
             const auto& e = start.entry(c);
@@ -306,129 +452,62 @@ private:
             const auto* be = b.findEntry(key);
             if (!UNION && !DIFFERENCE && !be)
                 continue;
-            if (be && !be->child && decides(be->tile)) {
+            if (be && !be->child && entryRule(true, ValueT{}, false, be->tile) == EntryRule::Tile) {
                 dst.setTile(key, decidedValue(), be->active);
                 continue;
             }
-            std::unique_ptr<ChildT> child;
-            if constexpr (ChildT::LEVEL == 0) {
-                child = std::make_unique<ChildT>(*e.child);
-                if (be && be->child)
-                    combineLeaves(*child, *be->child);
-            } else {
-                child = std::make_unique<ChildT>(e.child->origin());
-                copyNodeInto(*child, *e.child, be ? be->child : nullptr, /*moved=*/false);
-            }
-            dst.setChild(child.get());
-            child.release();
+            dst.setChild(buildBranch(*e.child, be ? be->child : nullptr, false).release());
         }
     }
 
-    /// Makes the leaf copies, in parallel, then links them in the order they were listed.
-    void linkLeafCopies(bool threaded) {
-        if constexpr (!Steal && !tree::IS_ROOT_NODE<tree::NodeAtLevelT<TopT, 1>>) {
-            std::vector<std::unique_ptr<LeafT>> copies(mLeafCopies.size());
+    /// Builds the level-1 nodes listed by buildNode(), in parallel, and hands them to their
+    /// parents in the order they were listed.
+    void buildLevelOneNodes() {
+        if constexpr (LEVEL_ONE_JOBS) {
+            std::vector<std::unique_ptr<LevelOneT>> built(mLevelOneJobs.size());
             util::parallelFor(
-                mLeafCopies.size(),
+                mLevelOneJobs.size(),
                 [&](size_t i) {
-                    const LeafCopy& job = mLeafCopies[i];
-                    auto leaf = std::make_unique<LeafT>(*job.source);
-                    if (job.moved && mMovedNeedFix)
-                        fixMovedLeaf(*leaf);
-                    if (job.other)
-                        combineLeaves(*leaf, *job.other);
-                    copies[i] = std::move(leaf);
+                    const LevelOneJob& job = mLevelOneJobs[i];
+                    built[i] = buildBranch(*job.source, job.other, job.moved);
                 },
-                threaded, 16);
-            for (size_t i = 0; i < copies.size(); ++i)
-                mLeafCopies[i].parent->setChild(mLeafCopies[i].n, copies[i].release());
-            mLeafCopies.clear();
+                mThreaded, 1);
+            for (size_t i = 0; i < built.size(); ++i)
+                mLevelOneJobs[i].parent->setChild(mLevelOneJobs[i].n, built[i].release());
+            mLevelOneJobs.clear();
         }
     }
 
-    // ---- Leaves
-
-    /// Each voxel takes the winning value and that input's active state; the states are
-    /// merged a 64-bit mask word at a time.
-    void combineLeaves(LeafT& a, const LeafT& b) const {
-        auto av = a.buffer(0);
-        const auto bv = b.buffer(0);
-        auto& am = a.getValueMask();
-        const auto& bm = b.getValueMask();
-        for (Index w = 0; w < LeafT::MaskType::WORD_COUNT; ++w) {
-            uint64_t take = 0;
-            for (Index i = 0; i < 64; ++i) {
-                const Index k = (w << 6) + i;
-                const ValueT other = DIFFERENCE ? ValueT(-bv[k]) : bv[k];
-                const bool fromB = UNION ? other < av[k] : av[k] < other;
-                take |= uint64_t(fromB) << i;
-                av[k] = fromB ? other : av[k];
-            }
-            am.getWord(w) = (am.getWord(w) & ~take) | (bm.getWord(w) & take);
-        }
-    }
-
-    // ---- Internal nodes
+    // ---- Internal nodes (Steal)
 
     template <typename NodeT, typename BNodeT>
     void mergeChildren(NodeT& a, BNodeT& b) {
-        if constexpr (NodeT::LEVEL == 0) {
-            if (!mStartCombined)  // startFrom() combined every pair of leaves already
-                mLeafPairs.emplace_back(&a, &b);
+        if constexpr (!Steal) {
+            return;  // buildStartRoot() merged the whole branch as it built it
+        } else if constexpr (NodeT::LEVEL == 0) {
+            mLeafPairs.emplace_back(&a, &b);
         } else {
             mergeNode(a, b);
         }
     }
 
-    template <typename NodeT, typename BNodeT>
-    void mergeNode(NodeT& a, BNodeT& b) {
-        using MaskT = typename NodeT::MaskType;
-        // No scratch masks (a bounded tree's top node has up to 2^30 entries): a's tiles are
-        // classified from its current state, which changes at an entry only once that entry
-        // has been settled, so this reads as masks taken before the loops.
-        const auto bTiles = [&](Index w) { return ~b.getChildMask().getWord(w); };
-        const auto bChildren = [&](Index w) { return b.getChildMask().getWord(w); };
-        if constexpr (DIFFERENCE) {
-            const auto inside = [&](Index n) {
-                return !a.isChild(n) && a.getTileValue(n) < ValueT(0);
-            };
-            // b's inside tiles make a outside over a's inside tiles and children.
-            tree::detail::forEachOnBit<MaskT>(bTiles, [&](Index n) {
-                if (b.getTileValue(n) < ValueT(0) && (a.isChild(n) || inside(n)))
-                    a.setTile(n, mBackgroundA, b.isTileOn(n));
-            });
-            // b's children: moved negated into a's inside tiles, merged with a's children.
-            tree::detail::forEachOnBit<MaskT>(bChildren, [&](Index n) {
-                if (inside(n)) {
+    template <typename NodeT>
+    void mergeNode(NodeT& a, NodeT& b) requires(Steal) {
+        // Each entry is settled by its own state alone, so a's entries change as they go.
+        for (Index n = 0; n < NodeT::NUM_VALUES; ++n) {
+            switch (entryRule(a, b, n)) {
+                case EntryRule::KeepA:
+                    break;
+                case EntryRule::Tile:
+                    a.setTile(n, decidedValue(), b.isTileOn(n));
+                    break;
+                case EntryRule::MoveB:
                     moveChild(a, n, b);
-                } else if (a.isChild(n)) {
+                    break;
+                case EntryRule::Merge:
                     mergeChildren(*a.getChild(n), *b.getChild(n));
-                }
-            });
-        } else {
-            // a's winning and losing tiles (zero tiles are neither).
-            const auto winning = [&](Index n) {
-                return !a.isChild(n) && isWinning(a.getTileValue(n));
-            };
-            const auto losing = [&](Index n) {
-                return !a.isChild(n) && isLosing(a.getTileValue(n));
-            };
-            // b's winning tiles replace whatever a has that is not winning.
-            tree::detail::forEachOnBit<MaskT>(bTiles, [&](Index n) {
-                if (!winning(n) && isWinning(b.getTileValue(n)))
-                    a.setTile(n, winningBackground(), b.isTileOn(n));
-            });
-            // b's children: dropped under a's winning tiles, moved into a's losing tiles,
-            // merged with a's children.
-            tree::detail::forEachOnBit<MaskT>(bChildren, [&](Index n) {
-                if (winning(n))
-                    return;
-                if (losing(n)) {
-                    moveChild(a, n, b);
-                } else if (a.isChild(n)) {
-                    mergeChildren(*a.getChild(n), *b.getChild(n));
-                }
-            });
+                    break;
+            }
         }
     }
 
@@ -574,10 +653,12 @@ private:
     const ValueT mBackgroundA;
     const ValueT mBackgroundB;
     const bool mMovedNeedFix;  // moved branches need background replacement or negation
+    bool mThreaded = true;     // buildFrom()'s `threaded`
+    // With Steal: the leaf pairs to combine and the moved leaves to fix.
     std::vector<std::pair<LeafT*, const LeafT*>> mLeafPairs;
     std::vector<LeafT*> mMovedLeaves;
-    std::vector<LeafCopy> mLeafCopies;
-    bool mStartCombined = false;
+    // Without: the level-1 nodes buildNode() left to buildLevelOneNodes().
+    std::vector<LevelOneJob> mLevelOneJobs;
 };
 
 /// Combines tree `b` into tree `a` value by value, with the rules of OpenVDB 10's
