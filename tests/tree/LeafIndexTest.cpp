@@ -30,41 +30,39 @@ using IndexConfigs = ::testing::Types<HashTree543, MapTree543, HashTree432, Fixe
                                       FixedTree643, FixedTree5555>;
 TYPED_TEST_SUITE(LeafIndexDifferential, IndexConfigs, test::ConfigName);
 
+// Runs the model workload on `tree` with the index rebuilt at `rate` per operation and checks
+// that it really ran with a current index for a good share of its operations.
+template <typename TreeT>
+void runWithIndex(TreeT& tree, const test::TreeShape& shape, uint32_t seed, int batches,
+                  double rate, std::vector<typename TreeT::ValueType> palette) {
+    test::WorkloadOptions options;
+    options.seed = seed;
+    options.batches = batches;
+    options.opsPerBatch = 20000;
+    options.leafIndexRate = rate;
+    options.checkCopy = false;
+    test::TreeModelDriver<TreeT, tree::ValueAccessor<TreeT>, tree::ValueAccessor<const TreeT>>
+        driver(tree, shape, options, std::move(palette));
+    EXPECT_TRUE(driver.run());
+    EXPECT_GT(double(driver.leafIndexBuilds()), double(driver.opCount()) * rate / 2);
+    EXPECT_GT(driver.opsWithLeafIndex(), driver.opCount() / 5);
+}
+
 // Random writes, erasures, fills, prunes and clears through the tree and two long-lived
 // accessors, with the index rebuilt about every 150 operations: every read (top-down, accessor,
 // const accessor) must match the model whether the index is current, retired by a freeing
 // edit, or missing the leaves added since it was built.
 TYPED_TEST(LeafIndexDifferential, RandomEditsWithIndexMatchSparseVolumeModel) {
     using TreeT = typename TypeParam::TreeType;
-    test::WorkloadOptions options;
-    options.seed = 41;
-    options.batches = 16;
-    options.opsPerBatch = 20000;
-    options.leafIndexRate = 1.0 / 150;
-    options.checkCopy = false;
     TreeT tree(2.5f);
-    test::TreeModelDriver<TreeT, tree::ValueAccessor<TreeT>, tree::ValueAccessor<const TreeT>>
-        driver(tree, TypeParam::shape(), options, {2.5f, 0.0f, -1.0f, 1.0f, 3.5f, 100.0f});
-    EXPECT_TRUE(driver.run());
-    // The workload really ran with a current index for a good share of its operations.
-    EXPECT_GT(driver.leafIndexBuilds(), 100u);
-    EXPECT_GT(driver.opsWithLeafIndex(), driver.opCount() / 5);
+    runWithIndex(tree, TypeParam::shape(), 41, 16, 1.0 / 150,
+                 {2.5f, 0.0f, -1.0f, 1.0f, 3.5f, 100.0f});
 }
 
 // A mask tree, whose leaves hold no values: the index serves isValueOn and the accessors.
 TEST(LeafIndex, MaskTreeRandomEditsMatchModel) {
-    using TreeT = MaskTree;
-    test::WorkloadOptions options;
-    options.seed = 7;
-    options.batches = 8;
-    options.opsPerBatch = 20000;
-    options.leafIndexRate = 1.0 / 200;
-    options.checkCopy = false;
-    TreeT tree(false);
-    test::TreeModelDriver<TreeT, tree::ValueAccessor<TreeT>, tree::ValueAccessor<const TreeT>>
-        driver(tree, HashTree543::shape(), options, {false, true});
-    EXPECT_TRUE(driver.run());
-    EXPECT_GT(driver.opsWithLeafIndex(), driver.opCount() / 5);
+    MaskTree tree(false);
+    runWithIndex(tree, HashTree543::shape(), 7, 8, 1.0 / 200, {false, true});
 }
 
 // A tree with leaves in a few clusters, far apart, the corners of the index space included.

@@ -165,10 +165,8 @@ public:
         if (!inDomain(ijk))
             return OpT::tile(mBackground, false, args...);
         if constexpr (STOP_LEVEL<OpT> == 0) {
-            if (const LeafIndexType* index = leafIndex()) {
-                if (const LeafNodeType* leaf = index->find(ijk))
-                    return OpT::leaf(*leaf, LeafNodeType::coordToOffset(ijk), args...);
-            }
+            if (const LeafNodeType* leaf = indexedLeaf(ijk))
+                return OpT::leaf(*leaf, LeafNodeType::coordToOffset(ijk), args...);
         }
         if constexpr (STOP_LEVEL<OpT> == TopT::LEVEL) {
             return applyAt<OpT>(*mTop, ijk, args...);
@@ -346,14 +344,18 @@ private:
         msg << "coordinate " << ijk << " is outside the tree's fixed domain " << domain();
         throw IndexError(msg.str());
     }
+    // The leaf holding `ijk` when the current leaf index lists it, else null (then the walk
+    // decides).
+    LeafNodeType* indexedLeaf(const Coord& ijk) const {
+        const LeafIndexType* index = leafIndex();
+        return index != nullptr ? index->find(ijk) : nullptr;
+    }
     template <typename UnchangedT, typename LeafOpT>
     void modify(const Coord& ijk, const UnchangedT& unchanged, const LeafOpT& op) {
         checkDomain(ijk);
-        if (const LeafIndexType* index = leafIndex()) {
-            if (LeafNodeType* leaf = index->find(ijk)) {
-                op(*leaf, LeafNodeType::coordToOffset(ijk));
-                return;
-            }
+        if (LeafNodeType* leaf = indexedLeaf(ijk)) {
+            op(*leaf, LeafNodeType::coordToOffset(ijk));
+            return;
         }
         detail::NoCache none;
         mTop->modifyValue(ijk, unchanged, op, none);
